@@ -139,8 +139,8 @@ class AugmentedContactBlock(ContactBlock):
             force, s, stuck, sliding = self.tangential(state, history, p, n, touching)
             stick = (k * self.stick_ratio)[:, None]
             origin = self.tool.offset(state.load_factor)
-            # (a new contact's anchor: where it was when the step was accepted)
-            anchors = start_anchors(history)
+            # (a new contact's anchor: where its way over the step touched the tool)
+            anchors = start_anchors(history, x - origin, p)
             stuck_at = anchors - history.traction / stick  # where the nodes stuck
             r = x - origin - stuck_at
             creep = r - np.sum(r * n, axis=1)[:, None] * n

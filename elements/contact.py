@@ -17,9 +17,12 @@ point of the tool it stuck to, carried with the tool. Its tangential offset from
   friction dissipation mu k p x (slip length), summed in the history.
 
 A node that was not touching when the last step was accepted has no anchor: in the step that
-brings it onto the tool it is anchored where it was then (the history's ``approach``), so its
-tangential motion over the step is slip like any other node's (frictionless in that step, a
-node a quasi-static increment brings on would end it without friction: docs/theory.md §9).
+brings it onto the tool it is anchored at the point of its way over the step where it touched
+the contact surface, a = x_0 + theta (x - x_0) with x_0 where it was then (the history's
+``approach``) and theta = g / (g + p) (its gap g then, its penetration p now: the gap taken
+linear over the step), so its tangential motion since it touched is slip like any other
+node's, and the way before it touched is not (frictionless in that step, a node a
+quasi-static increment brings on would end it without friction: docs/theory.md §9.2).
 The anchors, each node's accumulated slip and the dissipation are the block's history
 (femcore.element), so a quasi-static increment returns to them at every iteration and the
 tangent is that of the return mapping (non-symmetric in slip: the solvers' LU takes it).
@@ -85,7 +88,13 @@ from typing import Any
 
 import numpy as np
 
-from elements.contact_history import FrictionHistory, accepted, initial_friction, start_anchors
+from elements.contact_history import (
+    FrictionHistory,
+    accepted,
+    initial_friction,
+    landing_terms,
+    start_anchors,
+)
 from elements.contact_penalty import PENALTY_SHARE, automatic_penalty, damping_ratio
 from elements.node_rows import add_node_forces, distinct_nodes, row_sums, same_rows, shifted
 from elements.tools import RigidTool
@@ -503,10 +512,11 @@ class ContactBlock(InteractionBlock):
         none = np.zeros(s_count, dtype=bool)
         if history is None or self.friction == 0.0:
             return zero, zero, none, none
-        anchors = start_anchors(history)
+        x, origin = self._positions(state), self.tool.offset(state.load_factor)
+        anchors = start_anchors(history, x - origin, p)  # a landing node's: where it touched
         anchored = touching & np.isfinite(anchors[:, 0])
         anchor = np.where(anchored[:, None], anchors, 0.0)
-        r = self._positions(state) - (anchor + self.tool.offset(state.load_factor))
+        r = x - (anchor + origin)
         s = np.where(anchored[:, None], r - np.sum(r * n, axis=1)[:, None] * n, 0.0)
         k = self.stiffness * self.stick_ratio  # k_t, the stick spring
         trial = k * np.linalg.norm(s, axis=1)
@@ -669,12 +679,14 @@ class ContactBlock(InteractionBlock):
         _, s, stuck, sliding = self.tangential(state, history, p, n, touching)
         if stuck.any() or sliding.any():
             assert history is not None
-            anchors = start_anchors(history)
+            origin = self.tool.offset(state.load_factor)
+            anchors = start_anchors(history, x - origin, p)
             anchor = np.where(np.isfinite(anchors), anchors, 0.0)
-            r = x - (anchor + self.tool.offset(state.load_factor))
+            r = x - (anchor + origin)
             normal_part = np.sum(n * r, axis=1)[:, None, None]
             curved_r = np.einsum("sij,sj->si", curvature, r)
             ds_dx = eye - nn - normal_part * curvature - n[:, :, None] * curved_r[:, None, :]
+            ds_dx = ds_dx + landing_terms(history, x - origin, p, n)
             length = np.linalg.norm(s, axis=1)
             unit = s / np.where(length > 0, length, 1.0)[:, None]
             # A frozen node pulled off the tool (p < 0) has the limit mu k max(p, 0) = 0.

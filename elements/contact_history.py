@@ -9,7 +9,15 @@ from typing import Any
 
 import numpy as np
 
-__all__ = ["FrictionHistory", "accepted", "initial_friction", "landing", "start_anchors"]
+__all__ = [
+    "FrictionHistory",
+    "accepted",
+    "initial_friction",
+    "landing",
+    "landing_terms",
+    "start_anchors",
+    "touched_share",
+]
 
 
 @dataclass(frozen=True)
@@ -44,9 +52,14 @@ class FrictionHistory:
     approach : (s, 3) float or None
         Each node without an anchor: where it was, in the tool's own frame, when the step
         was accepted, mm (NaN for an anchored node). A node that touches in the next step
-        takes it as its anchor for that step, so its tangential motion since then is
-        friction's slip (elements/contact.py, "Friction"); None: not kept (the node is then
-        frictionless for that step).
+        takes as its anchor for that step the point of its way from there where it touched
+        (``start_anchors``), so its tangential motion since it touched is friction's slip
+        (elements/contact.py, "Friction"); None: not kept (the node is then frictionless for
+        that step).
+    approach_gap : (s,) float or None
+        Each node without an anchor: its gap to the contact surface when the step was
+        accepted, d - h / 2, mm (NaN for an anchored node); None: not kept (the touching
+        point is then taken at the approach itself, as histories did before they kept it).
     """
 
     anchor: np.ndarray
@@ -60,15 +73,64 @@ class FrictionHistory:
     multiplier: np.ndarray | None = None
     traction: np.ndarray | None = None
     approach: np.ndarray | None = None
+    approach_gap: np.ndarray | None = None
 
 
-def start_anchors(history: FrictionHistory) -> np.ndarray:
+def touched_share(history: FrictionHistory, penetration: np.ndarray) -> np.ndarray:
+    """(s,) theta, the share of a landing node's way over the step before it touched: its gap
+    fell from g (``approach_gap``) to -p (p = ``penetration`` (s,) mm, now) and the contact
+    surface lies at theta = g / (g + p) of the way (the gap taken linear over the step; 1
+    where the node is on the surface but not into it, 0 where it was already through it or
+    the gap was not kept); 0 for a node that is not landing (docs/theory.md §9.2)."""
+    gap = getattr(history, "approach_gap", None)  # (absent from an older pickle)
+    if gap is None:
+        return np.zeros(len(history.anchor))
+    g = np.where(np.isfinite(gap), np.maximum(gap, 0.0), 0.0)
+    way = g + np.maximum(penetration, 0.0)
+    return np.where(way > 0.0, g / np.where(way > 0.0, way, 1.0), np.where(g > 0.0, 1.0, 0.0))
+
+
+def landing_terms(
+    history: FrictionHistory, where: np.ndarray, penetration: np.ndarray, normal: np.ndarray
+) -> np.ndarray:
+    """(s, 3, 3) what a landing node's anchor, where it touched (``start_anchors``), adds to
+    ds/dx of a fixed anchor: with r = x - a = (1 - theta)(x - x_0) and theta = g / (g + p),
+    dtheta/dx = g / (g + p)^2 n^T (dp/dx = -n^T), so P dr/dx = (1 - theta) P - P w n^T with
+    w = g / (g + p)^2 (x - x_0): -theta P - P w n^T (P = I - n n^T, n = ``normal`` (s, 3);
+    ``where`` (s, 3) the nodes in the tool's frame, mm; ``penetration`` (s,) p, mm); zero for
+    the other nodes."""
+    theta = touched_share(history, penetration)
+    gap = getattr(history, "approach_gap", None)
+    projector = np.eye(3) - normal[:, :, None] * normal[:, None, :]
+    terms = -theta[:, None, None] * projector
+    if gap is None or history.approach is None:
+        return terms
+    g = np.where(np.isfinite(gap), np.maximum(gap, 0.0), 0.0)
+    way = g + penetration
+    rate = np.where((penetration > 0.0) & (way > 0.0), g / np.where(way > 0, way, 1.0) ** 2, 0.0)
+    w = rate[:, None] * np.where(np.isfinite(history.approach), where - history.approach, 0.0)
+    along = np.einsum("sij,sj->si", projector, w)
+    return terms - along[:, :, None] * normal[:, None, :]
+
+
+def start_anchors(
+    history: FrictionHistory,
+    where: np.ndarray | None = None,
+    penetration: np.ndarray | None = None,
+) -> np.ndarray:
     """(s, 3) the anchors a step's return mapping starts from, in the tool's frame, mm: the
-    history's, and for a node without one where it was when the step was accepted (its
-    ``approach``); NaN where there is neither (a history without ``approach``)."""
+    history's, and for a node without one the point of its way over the step where it
+    touched, a = x_0 + theta (x - x_0) (x_0 its ``approach``, x = ``where`` (s, 3) the nodes
+    now in the tool's frame, mm, theta ``touched_share`` of ``penetration`` (s,) mm, now), so
+    only its tangential motion since then is slip; without ``where`` (or a history without
+    ``approach_gap``) its approach itself. NaN where there is neither (a history without
+    ``approach``)."""
     approach = getattr(history, "approach", None)  # (absent from an older pickle)
     if approach is None:
         return history.anchor
+    if where is not None and penetration is not None:
+        theta = touched_share(history, penetration)
+        approach = approach + theta[:, None] * (where - approach)
     return np.where(np.isfinite(history.anchor), history.anchor, approach)
 
 
@@ -93,7 +155,10 @@ def initial_friction(block: Any) -> FrictionHistory:
     anchor = np.where(touching[:, None], where, np.nan)
     approach = np.where(touching[:, None], np.nan, where)
     penetration = np.maximum(block.offset - d, 0.0)
-    return FrictionHistory(anchor, np.zeros(len(d)), penetration, 0.0, approach=approach)
+    gap = np.where(touching, np.nan, d - block.offset)
+    return FrictionHistory(
+        anchor, np.zeros(len(d)), penetration, 0.0, approach=approach, approach_gap=gap
+    )
 
 
 def accepted(block: Any, state: Any, history: FrictionHistory) -> FrictionHistory:
@@ -101,28 +166,35 @@ def accepted(block: Any, state: Any, history: FrictionHistory) -> FrictionHistor
     accepted at ``state`` from ``history``: sliding anchors follow their nodes to the friction
     limit, new contacts are anchored where they are, lost ones forget their anchor; the slip
     and its dissipation added."""
-    p, n, touching = block.touch(state, history)
+    x = block._positions(state)
+    d, n = block.tool.distance(x, state.load_factor)
+    if history.active is None:
+        p, n, touching = block._touching(d, n, history)
+    else:  # a frozen set (elements/contact.py, "Active set")
+        p, n, touching = block.touch(state, history)
     _, s, stuck, sliding = block.tangential(state, history, p, n, touching)
     p = np.maximum(p, 0.0)  # a frozen node pulled off the tool has no friction limit
-    x = block._positions(state)
     length = np.linalg.norm(s, axis=1)
     limit = block.friction * p / block.stick_ratio  # the spring's length at the limit
     slid = np.where(sliding, length - limit, 0.0)
     unit = s / np.where(length > 0, length, 1.0)[:, None]
     origin = block.tool.offset(state.load_factor)
-    anchors = start_anchors(history)
+    anchors = start_anchors(history, x - origin, p)
     anchor = np.where(touching[:, None], x - origin, np.nan)  # new contacts
     anchor = np.where(stuck[:, None], anchors, anchor)
     moved = anchors + slid[:, None] * unit
     anchor = np.where(sliding[:, None], moved, anchor)
-    # A new contact's anchor came from its approach, off the tool (an augmented pass's
-    # too): put it level with the node, where its spring (s stuck, at the limit) ends.
+    # A new contact's anchor, where it touched (or an augmented pass's), may lie off the
+    # tool: put it level with the node, where its spring (s stuck, at the limit) ends.
     spring = np.where(sliding[:, None], limit[:, None] * unit, s)
     new = (stuck | sliding) & landing(history)
     anchor = np.where(new[:, None], x - origin - spring, anchor)
     approach = np.where(np.isfinite(anchor), np.nan, x - origin)
+    gap = np.where(np.isfinite(anchor[:, 0]), np.nan, d - block.surface_offset(history))
     # The slip happened while p went from its last value to this one: the limit force
     # at their mean (the integrator's midpoint rule) keeps the energy balance O(dt^2).
     force = block.friction * block.stiffness * 0.5 * (p + history.penetration)
     dissipated = history.dissipated + float(np.sum(force * slid))
-    return FrictionHistory(anchor, history.slip + slid, p, dissipated, approach=approach)
+    return FrictionHistory(
+        anchor, history.slip + slid, p, dissipated, approach=approach, approach_gap=gap
+    )

@@ -1,5 +1,6 @@
 """The augmented Lagrangian's passes (elements/augmented_contact.py) with a node that comes onto
-the tool in the increment: its anchor for the increment is its approach (docs/theory.md §9.2),
+the tool in the increment: its anchor for the increment is where its way touched the tool
+(docs/theory.md §9.2),
 which each pass and the accepted step put level with the node, and the friction force it
 landed with is carried as its traction, as on the penalty path
 (tests/test_contact_new_anchor.py)."""
@@ -66,22 +67,25 @@ def test_a_node_landing_on_a_cylinder_is_anchored_level_with_itself(augmented):
 @pytest.mark.parametrize("slide", [2.0, 0.01])
 def test_a_node_landing_sideways_carries_its_friction_force_as_its_traction(slide):
     """A node 1 mm above a plane, carried ``slide`` along x while it comes down 0.55 mm onto it
-    (p = 0.05 mm): before any pass its friction is the return mapping's against the slide, mu
-    k p = 1.5 N sliding (2 mm), k_t s = 1 N stuck (0.01 mm), as the penalty's. After an Uzawa
-    pass that force is its traction lambda_T: put back over where it landed from (zero elastic
-    slip), the node is held by it, the same force against its slide (stuck: the pass's normal
-    multiplier doubles the limit to 3 N). The pass measures the stuck node's elastic slip
-    from its approach: the slide (the only stuck node's, the largest)."""
+    (p = 0.05 mm): it touched the contact surface 0.5 / 0.55 of the way down (the gap taken
+    linear over the step), so it slid ``slide`` x 0.05 / 0.55 after it touched. Before any
+    pass its friction is the return mapping's against that slide, mu k p = 1.5 N sliding
+    (2 mm), k_t s = 0.09 N stuck (0.01 mm), as the penalty's. After an Uzawa pass that force
+    is its traction lambda_T: put back over where it touched (zero elastic slip), the node is
+    held by it, the same force against its slide (stuck: the pass's normal multiplier doubles
+    the limit to 3 N). The pass measures the stuck node's elastic slip from where it touched:
+    that slide (the only stuck node's, the largest)."""
     plane = RigidPlane((0, 0, 0), (0, 0, 1))
     block, history = bound(plane, True, (0.0, 0.0, 1.0))
     landed = (slide, 0.0, OFFSET - 0.05)
     normal = PENALTY * 0.05
-    friction = min(MU * normal, PENALTY * slide)
+    touched = slide * 0.5 / 0.55  # where it touched the contact surface, mm along x
+    friction = min(MU * normal, PENALTY * (slide - touched))
     force = block.contact_forces(at(landed), history)[0]
     np.testing.assert_allclose(force, [-friction, 0.0, normal], rtol=1e-12, atol=1e-12)
     history, report = block.augment(at(landed), history)
-    stuck = slide * PENALTY < MU * normal
-    assert report["slip"] == pytest.approx(slide if stuck else 0.0, rel=1e-12)
+    stuck = (slide - touched) * PENALTY < MU * normal
+    assert report["slip"] == pytest.approx(slide - touched if stuck else 0.0, rel=1e-12)
     np.testing.assert_allclose(history.traction[0], [-friction, 0.0, 0.0], rtol=1e-12)
-    back = block.contact_forces(at((0.0, 0.0, OFFSET - 0.05)), history)[0]
+    back = block.contact_forces(at((touched, 0.0, OFFSET - 0.05)), history)[0]
     np.testing.assert_allclose(back, [-friction, 0.0, 2.0 * normal], rtol=1e-12, atol=1e-12)

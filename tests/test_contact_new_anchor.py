@@ -35,7 +35,10 @@ def test_a_node_that_lands_sliding_has_coulomb_friction_in_the_step_it_lands():
     """Carried 2 mm along x while it comes down 0.55 mm onto the plane (p = 0.05 mm): the
     friction is mu k p against its motion, |f_T| = mu f_N (Coulomb; frictionless, as a node
     with no anchor was, it was 0), and the accepted step leaves its anchor where the spring
-    holds mu k p, mu p / 1 behind it, with 2 - mu p of slip."""
+    holds mu k p, mu p / 1 behind it. Its slip is counted from where it touched the
+    surface, 0.5 / 0.55 of the way down (the gap taken linear over the step), so it slid
+    2 x 0.05 / 0.55 - mu p after it touched (2 - mu p when its approach was its anchor: the
+    way before it touched counted as slip)."""
     block, history = node_above_a_plane()
     assert not np.isfinite(history.anchor).any()
     state = at((2.0, 0.0, OFFSET - 0.05))
@@ -46,7 +49,7 @@ def test_a_node_that_lands_sliding_has_coulomb_friction_in_the_step_it_lands():
     assert force[1] == 0.0
     accepted = block.update_history(state, history)
     np.testing.assert_allclose(accepted.anchor[0], [2.0 - MU * 0.05, 0.0, OFFSET - 0.05])
-    assert accepted.slip[0] == pytest.approx(2.0 - MU * 0.05, rel=1e-12)
+    assert accepted.slip[0] == pytest.approx(2.0 * 0.05 / 0.55 - MU * 0.05, rel=1e-12)
     assert np.isnan(accepted.approach[0]).all()  # anchored now
 
 

@@ -1,0 +1,68 @@
+"""A tool contact's friction dissipation counted from where a node touches (elements/contact.py,
+"Friction"; docs/theory.md §9.2): a node that lands in a step is anchored, for that step, at
+the point of its way where it touched the contact surface, so the tangential motion before
+it touched is not counted as slip."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from elements import MindlinShell, RigidPlane, RigidSurface
+from femcore import Mesh, Model
+from materials import ElasticShell
+from solvers.step import LumpedMasses, explicit_step
+
+MU = 0.3
+PENALTY = 1.0e3  # N/mm per node
+STEPS = 100
+DURATION = 1.0e-4  # s
+DT = DURATION / STEPS  # within the cell's L / c = 4e-6 s and the springs' 2 sqrt(m / k) = 3e-5 s
+GAP = 0.1  # mm between the contact surface and the nodes at the start
+RISE = 0.12  # mm the tool rises over the run: it reaches the nodes at 0.1 / 0.12 = 83 1/3 steps
+SLIDE = 1.0  # mm the nodes are carried along x over the run
+
+
+def tools():
+    """The rising tool, analytic and meshed (a flat 60 x 60 mm surface below the plate)."""
+    table = Mesh.rectangle(60.0, 60.0, nx=2, ny=2)
+    meshed = RigidSurface(
+        table.with_points(table.points - [20.0, 20.0, 0.0]),
+        motion=(0.0, 0.0, RISE),
+        amplitude="linear",
+    )
+    plane = RigidPlane((0, 0, 0), (0, 0, 1), motion=(0.0, 0.0, RISE), amplitude="linear")
+    return {"plane": plane, "meshed": meshed}
+
+
+@pytest.mark.parametrize("name", ["plane", "meshed"])
+def test_a_node_carried_onto_a_rising_tool_dissipates_coulombs_work_after_it_touched(name):
+    """A 1 mm plate (one cell) carried at a steady pace along x (1 mm over the run) while a
+    frictional tool (mu = 0.3) rises onto it at a steady pace (0.12 mm, from 0.1 mm below its
+    contact surface): each of its four nodes touches at t_c and then slides with the normal
+    force k p(t), p rising linearly, so Coulomb's dissipation is the integral of mu k p dx
+    less what the stick spring holds at the end, mu k p^2 / 2 x mu: D = 4 mu k p_end^2 / 2
+    (SLIDE / RISE - mu) (p_end = 0.02 mm, D = 1.928 N mm). The gap is linear in time here and
+    the force linear over each step, so the record is that integral to round-off (asserted
+    1e-12 relative, the sum's round-off ~1e-15 a step). The touch falls 1/3 of the way
+    through step 84; anchored where the nodes were at step 83 (the code before), the 1/3
+    step's sliding before the touch counted as slip at half the landing step's limit force:
+    4 mu k p_1 / 2 x SLIDE / 300 = 1.6e-3 N mm more (p_1 = 8e-4 mm), 8.3e-4 of D: it
+    fails there."""
+    flat = Mesh.rectangle(20.0, 20.0, nx=1, ny=1)
+    model = Model(flat.with_points(flat.points + [0.0, 0.0, 0.5 + GAP]))
+    model.add(MindlinShell(ElasticShell(E=70e3, nu=0.3, thickness=1.0, density=2.7e-9)))
+    model.contact(tools()[name], friction=MU, penalty=PENALTY)
+    model.displace(np.arange(4), ux=SLIDE, uy=0.0, uz=0.0, amplitude="linear")
+    compiled = model.compile()
+    state = compiled.initial_state()
+    masses = LumpedMasses.of(compiled, state)
+    previous = 0.0
+    for _ in range(STEPS):
+        outcome = explicit_step(compiled, state, DT, masses, dt_prev=previous, duration=DURATION)
+        state, previous = compiled.commit(outcome.state), DT
+    assert state.load_factor == pytest.approx(1.0, rel=1e-12)
+    np.testing.assert_allclose(state.positions[:, 0] - flat.points[:, 0], SLIDE, rtol=1e-12)
+    penetration = RISE * state.load_factor - GAP
+    coulomb = 4 * 0.5 * MU * PENALTY * penetration**2 * (SLIDE / RISE - MU)
+    assert compiled.dissipated_energy(state) == pytest.approx(coulomb, rel=1e-12)
