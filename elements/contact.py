@@ -513,7 +513,8 @@ class ContactBlock(InteractionBlock):
         if history is None or self.friction == 0.0:
             return zero, zero, none, none
         x, origin = self._positions(state), self.tool.offset(state.load_factor)
-        anchors = start_anchors(history, x - origin, p)  # a landing node's: where it touched
+        # a landing node's anchor: where its way over the step touched the contact surface
+        anchors = start_anchors(history, x - origin, p, touching)
         anchored = touching & np.isfinite(anchors[:, 0])
         anchor = np.where(anchored[:, None], anchors, 0.0)
         r = x - (anchor + origin)
@@ -680,13 +681,13 @@ class ContactBlock(InteractionBlock):
         if stuck.any() or sliding.any():
             assert history is not None
             origin = self.tool.offset(state.load_factor)
-            anchors = start_anchors(history, x - origin, p)
+            anchors = start_anchors(history, x - origin, p, touching)
             anchor = np.where(np.isfinite(anchors), anchors, 0.0)
             r = x - (anchor + origin)
             normal_part = np.sum(n * r, axis=1)[:, None, None]
             curved_r = np.einsum("sij,sj->si", curvature, r)
             ds_dx = eye - nn - normal_part * curvature - n[:, :, None] * curved_r[:, None, :]
-            ds_dx = ds_dx + landing_terms(history, x - origin, p, n)
+            ds_dx = ds_dx + landing_terms(history, x - origin, p, touching, n)
             length = np.linalg.norm(s, axis=1)
             unit = s / np.where(length > 0, length, 1.0)[:, None]
             # A frozen node pulled off the tool (p < 0) has the limit mu k max(p, 0) = 0.

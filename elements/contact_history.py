@@ -76,62 +76,86 @@ class FrictionHistory:
     approach_gap: np.ndarray | None = None
 
 
-def touched_share(history: FrictionHistory, penetration: np.ndarray) -> np.ndarray:
+def _landing_rows(history: FrictionHistory, penetration: np.ndarray, touching: np.ndarray):
+    """(rows, g, theta): the ``touching`` (s,) bool nodes without an anchor whose gap is
+    kept, their gaps g at the last accepted step, mm, and theta = g / (g + p) (p =
+    ``penetration`` (s,) mm now, taken as 0 where it is not into the surface; theta 1 where
+    the node was and is on the surface, g = p = 0)."""
+    gap = getattr(history, "approach_gap", None)  # (absent from an older pickle)
+    if gap is None:
+        none = np.zeros(0)
+        return np.zeros(0, dtype=np.int64), none, none
+    rows = np.flatnonzero(touching)
+    rows = rows[np.isfinite(gap[rows]) & ~np.isfinite(history.anchor[rows, 0])]
+    g = np.maximum(gap[rows], 0.0)
+    way = g + np.maximum(penetration[rows], 0.0)
+    return rows, g, np.where(way > 0.0, g / np.where(way > 0.0, way, 1.0), 1.0)
+
+
+def touched_share(
+    history: FrictionHistory, penetration: np.ndarray, touching: np.ndarray
+) -> np.ndarray:
     """(s,) theta, the share of a landing node's way over the step before it touched: its gap
     fell from g (``approach_gap``) to -p (p = ``penetration`` (s,) mm, now) and the contact
     surface lies at theta = g / (g + p) of the way (the gap taken linear over the step; 1
     where the node is on the surface but not into it, 0 where it was already through it or
-    the gap was not kept); 0 for a node that is not landing (docs/theory.md §9.2)."""
-    gap = getattr(history, "approach_gap", None)  # (absent from an older pickle)
-    if gap is None:
-        return np.zeros(len(history.anchor))
-    g = np.where(np.isfinite(gap), np.maximum(gap, 0.0), 0.0)
-    way = g + np.maximum(penetration, 0.0)
-    return np.where(way > 0.0, g / np.where(way > 0.0, way, 1.0), np.where(g > 0.0, 1.0, 0.0))
+    the gap was not kept); 0 for a node that is not landing or not ``touching`` (s,) bool
+    (docs/theory.md §9.2)."""
+    theta = np.zeros(len(history.anchor))
+    rows, _, share = _landing_rows(history, penetration, touching)
+    theta[rows] = share
+    return theta
 
 
 def landing_terms(
-    history: FrictionHistory, where: np.ndarray, penetration: np.ndarray, normal: np.ndarray
+    history: FrictionHistory,
+    where: np.ndarray,
+    penetration: np.ndarray,
+    touching: np.ndarray,
+    normal: np.ndarray,
 ) -> np.ndarray:
     """(s, 3, 3) what a landing node's anchor, where it touched (``start_anchors``), adds to
     ds/dx of a fixed anchor: with r = x - a = (1 - theta)(x - x_0) and theta = g / (g + p),
     dtheta/dx = g / (g + p)^2 n^T (dp/dx = -n^T), so P dr/dx = (1 - theta) P - P w n^T with
     w = g / (g + p)^2 (x - x_0): -theta P - P w n^T (P = I - n n^T, n = ``normal`` (s, 3);
-    ``where`` (s, 3) the nodes in the tool's frame, mm; ``penetration`` (s,) p, mm); zero for
-    the other nodes."""
-    theta = touched_share(history, penetration)
-    gap = getattr(history, "approach_gap", None)
-    projector = np.eye(3) - normal[:, :, None] * normal[:, None, :]
-    terms = -theta[:, None, None] * projector
-    if gap is None or history.approach is None:
+    ``where`` (s, 3) the nodes in the tool's frame, mm; ``penetration`` (s,) p, mm; dtheta/dx
+    0 where p <= 0); zero for the other nodes and those not ``touching`` (s,) bool."""
+    terms = np.zeros((len(history.anchor), 3, 3))
+    rows, g, theta = _landing_rows(history, penetration, touching)
+    if len(rows) == 0:
         return terms
-    g = np.where(np.isfinite(gap), np.maximum(gap, 0.0), 0.0)
-    way = g + penetration
-    rate = np.where((penetration > 0.0) & (way > 0.0), g / np.where(way > 0, way, 1.0) ** 2, 0.0)
-    w = rate[:, None] * np.where(np.isfinite(history.approach), where - history.approach, 0.0)
+    assert history.approach is not None  # (kept wherever its gap is)
+    n = normal[rows]
+    projector = np.eye(3) - n[:, :, None] * n[:, None, :]
+    pressed = penetration[rows] > 0.0
+    rate = np.where(pressed, g / np.where(pressed, g + penetration[rows], 1.0) ** 2, 0.0)
+    w = rate[:, None] * (where[rows] - history.approach[rows])
     along = np.einsum("sij,sj->si", projector, w)
-    return terms - along[:, :, None] * normal[:, None, :]
+    terms[rows] = -theta[:, None, None] * projector - along[:, :, None] * n[:, None, :]
+    return terms
 
 
 def start_anchors(
     history: FrictionHistory,
     where: np.ndarray | None = None,
     penetration: np.ndarray | None = None,
+    touching: np.ndarray | None = None,
 ) -> np.ndarray:
     """(s, 3) the anchors a step's return mapping starts from, in the tool's frame, mm: the
     history's, and for a node without one the point of its way over the step where it
     touched, a = x_0 + theta (x - x_0) (x_0 its ``approach``, x = ``where`` (s, 3) the nodes
-    now in the tool's frame, mm, theta ``touched_share`` of ``penetration`` (s,) mm, now), so
-    only its tangential motion since then is slip; without ``where`` (or a history without
-    ``approach_gap``) its approach itself. NaN where there is neither (a history without
-    ``approach``)."""
+    now in the tool's frame, mm, theta ``touched_share`` of ``penetration`` (s,) mm, now, for
+    the ``touching`` (s,) bool nodes), so only its tangential motion since then is slip;
+    without ``where`` (or a history without ``approach_gap``, or a node not touching) its
+    approach itself. NaN where there is neither (a history without ``approach``)."""
     approach = getattr(history, "approach", None)  # (absent from an older pickle)
     if approach is None:
         return history.anchor
-    if where is not None and penetration is not None:
-        theta = touched_share(history, penetration)
-        approach = approach + theta[:, None] * (where - approach)
-    return np.where(np.isfinite(history.anchor), history.anchor, approach)
+    anchors = np.where(np.isfinite(history.anchor), history.anchor, approach)
+    if where is not None and penetration is not None and touching is not None:
+        rows, _, theta = _landing_rows(history, penetration, touching)
+        anchors[rows] += theta[:, None] * (where[rows] - approach[rows])
+    return anchors
 
 
 def landing(history: FrictionHistory) -> np.ndarray:
@@ -179,7 +203,7 @@ def accepted(block: Any, state: Any, history: FrictionHistory) -> FrictionHistor
     slid = np.where(sliding, length - limit, 0.0)
     unit = s / np.where(length > 0, length, 1.0)[:, None]
     origin = block.tool.offset(state.load_factor)
-    anchors = start_anchors(history, x - origin, p)
+    anchors = start_anchors(history, x - origin, p, touching)
     anchor = np.where(touching[:, None], x - origin, np.nan)  # new contacts
     anchor = np.where(stuck[:, None], anchors, anchor)
     moved = anchors + slid[:, None] * unit
