@@ -28,8 +28,9 @@ the return mapping, the frozen sets and the exact tangent of elements/contact.py
 are; the point the node stuck to is ``anchor - traction / k_t``. When a step is accepted a node
 that slid sticks where it is, its traction the friction force it had (the anchor stays where
 the spring holds that force), a new contact too if it slid, the traction of the last pass if
-it stuck (none without a pass); a lost one forgets it. A new contact's anchor, its approach
-off the tool, is put level with the node by each pass and when the step is accepted.
+it stuck (none without a pass); a lost one forgets it. A new contact's anchor, the point of its
+way where it touched (off the tool on a round one), is put level with the node by each pass
+and when the step is accepted.
 The explicit solver and dynamic relaxation never update the multipliers: there the contact
 is the penalty's.
 
@@ -147,9 +148,9 @@ class AugmentedContactBlock(ContactBlock):
             slip = float(np.linalg.norm(np.where(stuck[:, None], creep, 0.0), axis=1).max())
             held = stuck | sliding
             traction = np.where(held[:, None], force, 0.0)
-            # A landing node's anchor, its approach, is off the tool: put level with the node
-            # (the same tangential offset s), as the accepted step's is (docs/theory.md §9.2),
-            # else its spring is (R + that height) / (R + h / 2) too stiff on a round tool.
+            # A landing node's anchor, where it touched, is off a round tool: put it level with
+            # the node (the same tangential offset s), as the accepted step's is (docs/theory.md
+            # §9.2), else its spring is (R + that height) / (R + h / 2) too stiff there.
             new = held & landing(history)
             anchors = np.where(new[:, None], x - origin - s, anchors)
             moved = anchors + (traction - history.traction) / stick
