@@ -89,3 +89,42 @@ def test_a_node_landing_sideways_carries_its_friction_force_as_its_traction(slid
     np.testing.assert_allclose(history.traction[0], [-friction, 0.0, 0.0], rtol=1e-12)
     back = block.contact_forces(at((touched, 0.0, OFFSET - 0.05)), history)[0]
     np.testing.assert_allclose(back, [-friction, 0.0, 2.0 * normal], rtol=1e-12, atol=1e-12)
+
+
+def test_the_tangent_after_a_pass_is_the_derivative_of_the_forces():
+    """Nodes landing on a cylinder sideways, some stuck and some sliding (mu = 0.3), after an
+    Uzawa pass: the pass gave them anchors, so the tangent holds no term of the anchor where
+    they touched (which moves with x only while they have none); it is the central difference
+    of the contact forces (step 1e-6 mm) to 1e-6 k (the difference's round-off and
+    truncation, as in tests/test_contact_new_anchor.py)."""
+    cylinder = RigidCylinder((0, 0, 0), (0, 1, 0), RADIUS)
+    points = np.array([[x, y, RADIUS + OFFSET + 1.0] for x in (-0.2, 0.0, 0.2) for y in (0, 1)])
+    mesh = Mesh(np.vstack([points, FAR]), lines=np.array([[k, 6] for k in range(6)]))
+    contact = Contact(
+        cylinder, np.arange(6), offset=OFFSET, penalty=PENALTY, friction=MU, augmented=True
+    )
+    block = contact.bind(Body.bare(mesh))
+    history = block.initial_history()
+    slide = np.array([0.001, 0.5, 0.002, 0.8, 0.0005, 0.3])
+    x = np.vstack([points + np.column_stack([slide, 0 * slide, -1.0 - 0.05 - slide / 10]), FAR])
+
+    def state(where):
+        zero = np.zeros_like(where)
+        return State(where, zero, zero.copy(), zero.copy())
+
+    history, _ = block.augment(state(x), history)
+    assert np.isfinite(history.anchor).all()
+    p, n, touching = block.touch(state(x), history)
+    _, _, stuck, sliding = block.tangential(state(x), history, p, n, touching)
+    assert touching.all() and stuck.any() and sliding.any()
+    blocks = block.tangent(state(x), history)[0].blocks[:, 0, :, 0, :]
+    step = 1e-6
+    for node in range(6):
+        for axis in range(3):
+            ahead, behind = x.copy(), x.copy()
+            ahead[node, axis] += step
+            behind[node, axis] -= step
+            change = block.contact_forces(state(behind), history)[node]
+            change = change - block.contact_forces(state(ahead), history)[node]
+            column = change / (2.0 * step)
+            assert np.abs(blocks[node][:, axis] - column).max() <= 1e-6 * PENALTY
