@@ -1,7 +1,7 @@
-"""A node that comes onto a tool in a step is anchored, for that step, where it was when the
-last step was accepted (elements/contact.py, "Friction"; docs/theory.md §9.2): its tangential
-motion over the step is slip, and Coulomb's law holds at the end of the step in which it
-arrived, as at any other."""
+"""A node that comes onto a tool in a step is anchored, for that step, at the point of its way
+where it touched the contact surface (elements/contact.py, "Friction"; docs/theory.md §9.2):
+its tangential motion since then is slip, and Coulomb's law holds at the end of the step in
+which it arrived, as at any other."""
 
 import numpy as np
 import pytest
@@ -90,7 +90,7 @@ def assembled(tangent, n_nodes: int) -> np.ndarray:
 def test_the_tangent_of_nodes_landing_on_a_round_tool_is_the_derivative_of_their_force(tool, stick):
     """16 nodes of a 4 x 4 mm patch 3 mm clear of the tool (no anchors) brought onto it in one
     step, each by its own random way (some stick, some slide, mu = 0.4): the tangent, whose
-    friction part is that of the spring from each node's approach, is the central difference
+    friction part is that of the spring from where each node touched, is the central difference
     of the contact forces (step 1e-6 mm) to 1e-6 k (the difference's error: round-off ~1e-16
     |f| / 1e-6 and the truncation ~1e-12 of the springs' N/mm; measured 3e-9). Taken from
     the missing anchors instead, the landing nodes lose their friction part: 0.17 k off
