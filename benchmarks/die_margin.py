@@ -40,8 +40,8 @@ def main() -> None:
     arguments = parser.parse_args()
 
     from elements import rigid_surface
-    from solvers import CentralDifference
     from validation.studies import hemisphere_plies_setup as setup
+    from validation.studies.hemisphere_plies_run import case_solver
 
     searches = [0]
     surface = rigid_surface.RigidSurface
@@ -55,8 +55,8 @@ def main() -> None:
     layup = setup.LAYUPS[arguments.layup]
     # compiled (or read from numba's cache) before the timing: a short run of the same model
     _, model = setup.model(8, layup, arguments.kinematics, 20.0)
-    CentralDifference(
-        duration=setup.DURATION / 200, damping=setup.DAMPING, progress=False, kinetic_bound=None
+    case_solver(
+        arguments.layup, arguments.kinematics, 1 / 200, output_interval=None, kinetic_bound=None
     ).solve(model.compile())
     hashes = set()
     for _ in range(arguments.repeats):
@@ -65,8 +65,8 @@ def main() -> None:
             searches[0] = 0
             _, model = setup.model(8, layup, arguments.kinematics, 20.0)
             compiled = model.compile()
-            solver = CentralDifference(
-                duration=setup.DURATION, damping=setup.DAMPING, progress=False, kinetic_bound=None
+            solver = case_solver(
+                arguments.layup, arguments.kinematics, output_interval=None, kinetic_bound=None
             )
             start = time.process_time()
             result = solver.solve(compiled)

@@ -324,8 +324,9 @@ RUN = """
 import json, os, sys, time
 import numpy as np
 # case_model's source is put above (the tree run is on sys.path, not this one)
-case, kinematics, layup, cells, history = sys.argv[1:6]
-short, solver, model = case_model(case, kinematics, layup, int(cells), history)
+case, kinematics, layup, cells, history, settings = sys.argv[1:7]
+settings = json.loads(settings)  # this tree's (the tree run may not have case_settings)
+short, solver, model = case_model(case, kinematics, layup, int(cells), history, settings)
 # compiled (or read from numba's cache) before the timing: a short run of the same model
 short.solve(model.compile())
 start = time.process_time()
@@ -336,12 +337,15 @@ print(json.dumps({"cpu": cpu, "steps": result.steps,
 """
 
 
-def case_model(case: str, kinematics: str, layup: str, cells: int, history: str | None):
+def case_model(
+    case: str, kinematics: str, layup: str, cells: int, history: str | None, settings: dict
+):
     """(a short solver that compiles the kernels, the timed solver, the Model) of ``case``:
     "hemisphere-plies" (validation/studies/hemisphere_plies_run.py's two plies of ``layup``,
-    the energy and tool history every record, 100 frames) or "hemisphere-forming"
-    (validation/cases/hemisphere_forming.py ``run``: one ply on the die's round, the case's
-    time scaling, no history)."""
+    the energy and tool history every record, 100 frames, the solvers' ``settings`` of
+    ``plies_settings``) or "hemisphere-forming" (validation/cases/hemisphere_forming.py
+    ``run``: one ply on the die's round, the case's time scaling, no history). Run in the
+    tree measured, with that tree's packages."""
     from solvers import CentralDifference
 
     if case == "hemisphere-forming":
@@ -358,12 +362,22 @@ def case_model(case: str, kinematics: str, layup: str, cells: int, history: str 
     from validation.studies import hemisphere_plies_setup as setup
 
     _, model = setup.model(cells, setup.LAYUPS[layup], kinematics, 20.0)
-    short = CentralDifference(
-        duration=setup.DURATION / 200, damping=setup.DAMPING, progress=False, kinetic_bound=None
-    )
-    solver = CentralDifference(duration=setup.DURATION, damping=setup.DAMPING, progress=False,
-                               output_interval=setup.DURATION / 100, history=history)  # fmt: skip
-    return short, solver, model
+    short = CentralDifference(**settings["short"])
+    return short, CentralDifference(**settings["run"], history=history), model
+
+
+def plies_settings(kinematics: str, layup: str) -> dict:
+    """The two-ply run's solvers' settings, this tree's (validation/studies/
+    hemisphere_plies_run.py ``case_settings``, handed to a tree of the code before, which may
+    not have it): "short" 1/200 of the run's stroke, "run" the whole."""
+    from validation.studies.hemisphere_plies_run import case_settings
+
+    return {
+        "short": case_settings(
+            layup, kinematics, 1 / 200, output_interval=None, kinetic_bound=None
+        ),
+        "run": case_settings(layup, kinematics),
+    }
 
 
 def run_in(tree: Path, case: str, kinematics: str, layup: str, cells: int) -> dict:
@@ -371,8 +385,9 @@ def run_in(tree: Path, case: str, kinematics: str, layup: str, cells: int) -> di
     environment = {**os.environ, "PYTHONPATH": str(tree), "NUMBA_NUM_THREADS": "1"}
     history = f"/tmp/forming_step_overhead_{os.getpid()}.csv"
     script = inspect.getsource(case_model) + RUN
+    settings = json.dumps(plies_settings(kinematics, layup))
     done = subprocess.run(
-        [sys.executable, "-c", script, case, kinematics, layup, str(cells), history],
+        [sys.executable, "-c", script, case, kinematics, layup, str(cells), history, settings],
         cwd=tree, env=environment, capture_output=True, text=True, check=True,
     )  # fmt: skip
     Path(history).unlink(missing_ok=True)
@@ -447,7 +462,12 @@ def split(case: str, kinematics: str, layup: str, cells: int) -> None:
         for name in names:
             timed(owner, name)
     short, solver, model = case_model(
-        case, kinematics, layup, cells, f"/tmp/forming_step_overhead_{os.getpid()}.csv"
+        case,
+        kinematics,
+        layup,
+        cells,
+        f"/tmp/forming_step_overhead_{os.getpid()}.csv",
+        plies_settings(kinematics, layup),
     )
     short.solve(model.compile())
     spent.clear()

@@ -96,8 +96,8 @@ def states_of(kinematics: str, layup: str, start: int, steps: int):
     ``steps`` committed states from there)."""
     import femcore.compiled as compiled_model
     from elements.ply_block import PlyContactBlock
-    from solvers import CentralDifference
     from validation.studies import hemisphere_plies_setup as setup
+    from validation.studies.hemisphere_plies_run import case_solver
 
     _, model = setup.model(8, setup.LAYUPS[layup], kinematics, 20.0)
     compiled = model.compile()
@@ -121,7 +121,7 @@ def states_of(kinematics: str, layup: str, start: int, steps: int):
 
     capture.count = 0
     compiled_model.CompiledModel.commit = capture
-    solver = CentralDifference(duration=setup.DURATION, damping=setup.DAMPING, progress=False)
+    solver = case_solver(layup, kinematics, output_interval=None)
     try:
         solver.solve(compiled)
     except Done:

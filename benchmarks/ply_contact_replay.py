@@ -62,6 +62,7 @@ import sys
 from pathlib import Path
 
 HERE = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(HERE))  # this tree's case_settings (run from anywhere, no install)
 
 REPLAY = """
 import hashlib, json, pickle, sys, time
@@ -71,6 +72,7 @@ from elements.ply_block import PlyContactBlock
 from solvers import CentralDifference
 from validation.studies import hemisphere_plies_setup as setup
 kinematics, layup, start, steps, repeats = sys.argv[1], sys.argv[2], *map(int, sys.argv[3:6])
+settings = json.loads(sys.argv[6])  # this tree's case_settings (the tree run may not have it)
 _, model = setup.model(8, setup.LAYUPS[layup], kinematics, 20.0)
 compiled = model.compile()
 blocks = [i for i, part in enumerate(compiled.parts) if isinstance(part, PlyContactBlock)]
@@ -88,7 +90,7 @@ def capture(self, state):
         raise Done
     return commit(self, state)
 compiled_model.CompiledModel.commit = capture
-solver = CentralDifference(duration=setup.DURATION, damping=setup.DAMPING, progress=False)
+solver = CentralDifference(**settings)
 try:
     solver.solve(compiled)
 except Done:
@@ -125,10 +127,13 @@ print(json.dumps({"history_us": best[0] / calls * 1e6, "loads_us": best[1] / cal
 
 def replay_in(tree: Path, args: argparse.Namespace) -> dict:
     """The replay in a process of its own on ``tree``'s code, one numba thread."""
+    from validation.studies.hemisphere_plies_run import case_settings
+
     environment = {**os.environ, "PYTHONPATH": str(tree), "NUMBA_NUM_THREADS": "1"}
+    settings = json.dumps(case_settings(args.layup, args.kinematics, output_interval=None))
     done = subprocess.run(
         [sys.executable, "-c", REPLAY, args.kinematics, args.layup, str(args.start),
-         str(args.steps), str(args.repeats)],
+         str(args.steps), str(args.repeats), settings],
         cwd=tree, env=environment, capture_output=True, text=True, check=True,
     )  # fmt: skip
     return json.loads(done.stdout.strip().splitlines()[-1])

@@ -55,8 +55,8 @@ def main() -> None:
     arguments = parser.parse_args()
 
     from elements import ply_search
-    from solvers import CentralDifference
     from validation.studies import hemisphere_plies_setup as setup
+    from validation.studies.hemisphere_plies_run import case_solver
 
     counts = {"renew": 0, "refresh": 0}
     search = ply_search.FacingSearch
@@ -77,12 +77,8 @@ def main() -> None:
         ply_search.EPOCH_SHARE = share
         counts.update(renew=0, refresh=0)
         _, model = setup.model(8, layup, arguments.kinematics, 20.0)
-        solver = CentralDifference(
-            duration=setup.DURATION,
-            damping=setup.DAMPING,
-            progress=False,
-            output_interval=setup.DURATION / 100,
-            history=f"/tmp/ply_epoch_{os.getpid()}.csv",
+        solver = case_solver(
+            arguments.layup, arguments.kinematics, history=f"/tmp/ply_epoch_{os.getpid()}.csv"
         )
         compiled = model.compile()
         start = time.process_time()
@@ -92,8 +88,8 @@ def main() -> None:
 
     # compiled (or read from numba's cache) before the timing: a short run of the same model
     _, model = setup.model(8, layup, arguments.kinematics, 20.0)
-    CentralDifference(
-        duration=setup.DURATION / 200, damping=setup.DAMPING, progress=False, kinetic_bound=None
+    case_solver(
+        arguments.layup, arguments.kinematics, 1 / 200, output_interval=None, kinetic_bound=None
     ).solve(model.compile())
     best: dict[float, float] = {}
     hashes = set()

@@ -101,10 +101,10 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # run from anywher
 from elements import ply_projection  # noqa: E402
 from elements.ply_block import PlyContactBlock  # noqa: E402
 from femcore.state import State  # noqa: E402
-from solvers import CentralDifference  # noqa: E402
 from solvers.common import SolverError  # noqa: E402
 from solvers.interrupts import STOP, interruptible  # noqa: E402
 from validation.studies import hemisphere_plies_setup as setup  # noqa: E402
+from validation.studies.hemisphere_plies_run import case_solver  # noqa: E402
 
 
 def bent_states(compiled, count: int) -> list[State]:
@@ -147,12 +147,7 @@ def stretch_ms(compiled, steps: int) -> float:
         return commit(compiled, state)
 
     compiled.commit = counted
-    solver = CentralDifference(
-        duration=setup.DURATION,
-        damping=setup.DAMPING,
-        progress=False,
-        output_interval=setup.DURATION / 100,
-    )
+    solver = case_solver("0/90", "fibrous")  # the model ``main`` gives
     with interruptible():
         start = time.process_time()
         try:

@@ -38,18 +38,14 @@ def main() -> None:
     arguments = parser.parse_args()
 
     from elements import ply_projection
-    from solvers import CentralDifference
     from validation.studies import hemisphere_plies_gaps as gaps
     from validation.studies import hemisphere_plies_setup as setup
+    from validation.studies.hemisphere_plies_run import case_solver
 
     layup, model = setup.model(8, setup.LAYUPS[arguments.layup], arguments.kinematics, 20.0)
-    result = CentralDifference(
-        duration=setup.DURATION,
-        damping=setup.DAMPING,
-        progress=False,
-        kinetic_bound=None,
-        output_interval=setup.DURATION / 100,
-    ).solve(model.compile())
+    result = case_solver(arguments.layup, arguments.kinematics, kinetic_bound=None).solve(
+        model.compile()
+    )
     print(f"{arguments.kinematics} [{arguments.layup}]: {len(result.frames)} frames")
     best = {True: float("inf"), False: float("inf")}
     figures = {}

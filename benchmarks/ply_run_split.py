@@ -92,6 +92,7 @@ def run(kinematics: str, layup: str, cells: int, profile: bool) -> dict:
     ``profile``, the parts' shares of the march."""
     from solvers import CentralDifference
     from validation.studies import hemisphere_plies_setup as setup
+    from validation.studies.hemisphere_plies_run import case_solver
 
     _, built = setup.model(cells, setup.LAYUPS[layup], kinematics, 20.0)
     compiled = built.compile()
@@ -105,13 +106,7 @@ def run(kinematics: str, layup: str, cells: int, profile: bool) -> dict:
     CentralDifference._lowered = recording  # type: ignore[method-assign]
     try:
         with tempfile.TemporaryDirectory() as folder:
-            solver = CentralDifference(
-                duration=setup.DURATION,
-                damping=setup.DAMPING,
-                progress=False,
-                output_interval=setup.DURATION / 100,
-                history=Path(folder) / "history.csv",
-            )
+            solver = case_solver(layup, kinematics, history=Path(folder) / "history.csv")
             profiler = cProfile.Profile() if profile else None
             start = time.process_time()
             if profiler is not None:

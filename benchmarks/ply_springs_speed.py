@@ -56,8 +56,8 @@ def captured_springs(kinematics: str, layup: str, share: float) -> list[tuple]:
     """Every fourth call of ``reachable_springs`` (at most 100) over the first ``share`` of
     the run: (block, state, facing, y, step, mass) each."""
     from elements import ply_springs
-    from solvers import CentralDifference
     from validation.studies import hemisphere_plies_setup as setup
+    from validation.studies.hemisphere_plies_run import case_solver
 
     _, model = setup.model(8, setup.LAYUPS[layup], kinematics, 20.0)
     calls: list[tuple] = []
@@ -71,10 +71,7 @@ def captured_springs(kinematics: str, layup: str, share: float) -> list[tuple]:
 
     ply_springs.reachable_springs = capture
     try:
-        solver = CentralDifference(
-            duration=setup.DURATION * share, damping=setup.DAMPING, progress=False,
-            kinetic_bound=None,
-        )  # fmt: skip
+        solver = case_solver(layup, kinematics, share, output_interval=None, kinetic_bound=None)
         solver.solve(model.compile())
     finally:
         ply_springs.reachable_springs = original
@@ -102,9 +99,9 @@ def main() -> None:
     arguments = parser.parse_args()
     from elements import ply_springs
     from elements.layup import Layup
-    from solvers import CentralDifference
     from validation.studies import hemisphere_plies_gaps as gaps
     from validation.studies import hemisphere_plies_setup as setup
+    from validation.studies.hemisphere_plies_run import case_solver
 
     spec = importlib.util.spec_from_file_location(
         "reference_ply_springs", arguments.reference / "elements" / "ply_springs.py"
@@ -126,10 +123,7 @@ def main() -> None:
               f"bits: {same} (load {os.getloadavg()[0]:.1f})")  # fmt: skip
 
     layup, model = setup.model(8, setup.LAYUPS[arguments.layup], arguments.kinematics, 20.0)
-    solver = CentralDifference(
-        duration=setup.DURATION, damping=setup.DAMPING, progress=False,
-        output_interval=setup.DURATION / 100, kinetic_bound=None,
-    )  # fmt: skip
+    solver = case_solver(arguments.layup, arguments.kinematics, kinetic_bound=None)
     frames = [
         frame.positions[: layup.mesh.n_nodes] for frame in solver.solve(model.compile()).frames
     ]

@@ -47,6 +47,7 @@ Measured (this script, best of 2-3, one thread, nice 5):
 from __future__ import annotations
 
 import argparse
+import json
 import os
 import subprocess
 import sys
@@ -107,16 +108,30 @@ def _timed_parts() -> dict[str, float]:
     return spent
 
 
-def window(start: int, stop: int, out: str, kinematics: str = "fibrous", parts: bool = False):
+def window(
+    start: int,
+    stop: int,
+    out: str,
+    kinematics: str = "fibrous",
+    parts: bool = False,
+    settings: dict | None = None,
+):
     """Run the case's ``kinematics`` [0/90] run to step ``stop``, print the CPU per step (ms)
     of the steps ``start`` .. ``stop`` and save the state there to ``out`` (.npz); with
-    ``parts``, each of ``PARTS``' CPU a step in the window too (timed, so a little slower)."""
+    ``parts``, each of ``PARTS``' CPU a step in the window too (timed, so a little slower).
+    ``settings``: the solver's (validation/studies/hemisphere_plies_run.py ``case_settings``,
+    handed over by this tree to a tree of the code before, which may not have it; None: this
+    tree's)."""
     from femcore.state import State
     from solvers import CentralDifference
     from solvers.common import SolverError
     from solvers.interrupts import STOP, interruptible
     from validation.studies import hemisphere_plies_setup as setup
 
+    if settings is None:
+        from validation.studies.hemisphere_plies_run import case_settings
+
+        settings = case_settings("0/90", kinematics)
     spent = _timed_parts() if parts else {}
     _, model = setup.model(8, setup.LAYUPS["0/90"], kinematics, 20.0)
     compiled = model.compile()
@@ -144,13 +159,7 @@ def window(start: int, stop: int, out: str, kinematics: str = "fibrous", parts: 
 
     compiled.commit = counted  # type: ignore[method-assign]
     with tempfile.TemporaryDirectory() as folder, interruptible():
-        solver = CentralDifference(
-            duration=setup.DURATION,
-            damping=setup.DAMPING,
-            progress=False,
-            output_interval=setup.DURATION / 100,
-            history=Path(folder) / "history.csv",
-        )
+        solver = CentralDifference(**settings, history=Path(folder) / "history.csv")
         try:
             solver.solve(compiled)
         except SolverError:
@@ -163,6 +172,8 @@ def window(start: int, stop: int, out: str, kinematics: str = "fibrous", parts: 
 def timed(tree: Path, start: int, stop: int, out: Path, kinematics: str) -> float:
     """CPU ms a step of the window in a fresh process run from ``tree``'s root."""
     # the tree's packages first on the path (before an installed copy), this script's code
+    from validation.studies.hemisphere_plies_run import case_settings
+
     environment = dict(os.environ, NUMBA_NUM_THREADS="1", PYTHONPATH=str(tree))
     done = subprocess.run(
         [
@@ -172,6 +183,10 @@ def timed(tree: Path, start: int, stop: int, out: Path, kinematics: str) -> floa
             str(start),
             str(stop),
             str(out),
+            "--kinematics",
+            kinematics,
+            "--settings",
+            json.dumps(case_settings("0/90", kinematics)),
         ],
         cwd=tree,
         env=environment,
@@ -191,9 +206,12 @@ def main() -> None:
     parser.add_argument("--kinematics", default="fibrous", help="fibrous or mindlin plies")
     parser.add_argument("--parts", action="store_true", help="this tree's parts of a step")
     parser.add_argument("--window", nargs=3, help=argparse.SUPPRESS)
+    parser.add_argument("--settings", help=argparse.SUPPRESS)  # a --window child's solver
     args = parser.parse_args()
     if args.window:
-        window(int(args.window[0]), int(args.window[1]), args.window[2], args.kinematics)
+        settings = json.loads(args.settings) if args.settings else None
+        window(int(args.window[0]), int(args.window[1]), args.window[2], args.kinematics,
+               settings=settings)  # fmt: skip
         return
     if args.parts:
         print(f"load {os.getloadavg()}")

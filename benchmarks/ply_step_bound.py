@@ -102,9 +102,9 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # run from anywher
 
 import solvers.explicit as explicit  # noqa: E402
 from femcore.compiled import _springs_at  # noqa: E402
-from solvers import CentralDifference  # noqa: E402
 from solvers.interrupts import STOP, Interrupted, interruptible  # noqa: E402
 from validation.studies import hemisphere_plies_setup as setup  # noqa: E402
+from validation.studies.hemisphere_plies_run import case_solver  # noqa: E402
 
 
 def largest_eigenvalue(compiled, state, parts) -> float:
@@ -125,11 +125,12 @@ def largest_eigenvalue(compiled, state, parts) -> float:
 
 def springs_by_part(compiled, state, step: float) -> list[tuple[str, float]]:
     """Each interaction's largest k / m over the nodes (1/s^2) at ``state``, its springs
-    asked for ``step`` s."""
+    asked for ``step`` s, the nodes weighed by the lumped masses (as the solver's step
+    weighs them, femcore/compiled.py ``penalty_frequency_squared``)."""
     mass = compiled.lumped_mass(state)[0]
     found = []
     for interaction in compiled.interactions:
-        springs = _springs_at(interaction, state, step)
+        springs = _springs_at(interaction, state, step, mass)
         largest = 0.0
         if springs is not None and len(springs[0]):
             nodes = np.asarray(springs[0])
@@ -185,9 +186,7 @@ def main() -> None:
     print(f"load {os.getloadavg()}")
     with interruptible():
         try:
-            CentralDifference(duration=setup.DURATION, damping=setup.DAMPING, progress=False).solve(
-                compiled
-            )
+            case_solver("0/90", args.kinematics, output_interval=None).solve(compiled)
         except Interrupted:
             pass
     compiled.commit = commit.__get__(compiled)  # type: ignore[method-assign]

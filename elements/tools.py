@@ -26,6 +26,7 @@ from numpy.typing import ArrayLike
 
 from femcore.checks import as_reals, check_positive
 from femcore.loads import AmplitudeFunction, amplitude_of
+from femcore.read_only_state import ReadOnlyState
 
 __all__ = ["RigidCylinder", "RigidPlane", "RigidSphere", "RigidTool"]
 
@@ -68,7 +69,7 @@ def _vector(value: ArrayLike, name: str, unit: bool = False) -> np.ndarray:
 _OFFSETS_KEPT = 4
 
 
-class RigidTool:
+class RigidTool(ReadOnlyState):
     """A rigid surface: ``distance(x, load_factor)`` -> (d (k,), n (k, 3)), the signed
     distance (mm, > 0 on the body's side) and the unit normal towards the body's side, and
     ``curvature(x, load_factor)`` -> (k,) the curvature 1/R of the surface's normal section

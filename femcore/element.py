@@ -35,6 +35,7 @@ import numpy as np
 
 from femcore.assembly import CellTangent, Scatter, SparseTangent, TangentPart
 from femcore.mesh import Mesh
+from femcore.read_only_state import ReadOnlyState
 from femcore.state import State
 
 __all__ = ["CellTangent", "ElementBlock", "ElementType", "SparseTangent", "TangentPart"]
@@ -81,7 +82,7 @@ class ElementType(ABC):
         """
 
 
-class ElementBlock(ABC):
+class ElementBlock(ReadOnlyState, ABC):
     """One element type over many cells, bound to a mesh.
 
     Attributes

@@ -43,6 +43,7 @@ import numpy as np
 from femcore.assembly import TangentPart
 from femcore.element import ElementType
 from femcore.mesh import Mesh
+from femcore.read_only_state import ReadOnlyState
 from femcore.state import State
 
 __all__ = ["Body", "BodyPart", "Interaction", "InteractionBlock", "SPRINGS_HELD_STEPS"]
@@ -134,7 +135,7 @@ class Interaction(ABC):
         search structures)."""
 
 
-class InteractionBlock(ABC):
+class InteractionBlock(ReadOnlyState, ABC):
     """An interaction bound to a body.
 
     Attributes

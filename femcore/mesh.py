@@ -41,6 +41,7 @@ from femcore.mesh_checks import (
     read_only,
     select_by_predicate,
 )
+from femcore.read_only_state import ReadOnlyState
 from femcore.topology import (
     Topology,
     build_topology,
@@ -103,7 +104,7 @@ _LEGACY_CELLS = {"triangle": "triangles", "line": "lines"}
 _LEGACY_SETS = {"triangle": "element_sets", "line": "line_sets"}
 
 
-class Mesh:
+class Mesh(ReadOnlyState):
     """Cells of the kinds in CELL_KINDS on shared nodes, with named node and cell sets.
 
     Parameters

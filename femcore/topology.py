@@ -20,6 +20,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 from scipy.spatial import cKDTree
 
+from femcore.read_only_state import ReadOnlyState
 from femcore.rotation import cross
 
 __all__ = [
@@ -163,7 +164,7 @@ def _points_and_triangles(points: ArrayLike, triangles: ArrayLike) -> tuple[np.n
 
 
 @dataclass(frozen=True)
-class Topology:
+class Topology(ReadOnlyState):
     """Edge-based connectivity of a manifold triangle mesh (all arrays int64, read-only).
 
     Build it with :func:`build_topology`.

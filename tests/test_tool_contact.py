@@ -190,9 +190,12 @@ def test_a_tool_offset_follows_a_new_motion_or_amplitude_and_is_the_callers_own(
     assert np.array_equal(tool.offset(0.3), [0.5, 0.0, 0.0])
     tool.motion = np.zeros(3)
     assert not tool.moves and np.array_equal(tool.offset(0.3), np.zeros(3))
-    # a restored tool (a checkpoint's copy) holds a motion that can be written in place
+    # a restored tool (a pickled or deep-copied one) refuses an edit of its motion in place
+    # as the tool built does (femcore/read_only_state.py), and follows a new motion given
     tool = RigidSphere((0.0, 0.0, 10.0), 5.0, motion=(0.0, 0.0, -3.0), amplitude="linear")
     assert np.array_equal(tool.offset(0.5), [0.0, 0.0, -1.5])
     restored = pickle.loads(pickle.dumps(tool))
-    restored.motion[2] = -10.0
+    with pytest.raises(ValueError, match="read-only"):
+        restored.motion[2] = -10.0
+    restored.motion = np.array([0.0, 0.0, -10.0])
     assert np.array_equal(restored.offset(0.5), [0.0, 0.0, -5.0])

@@ -56,6 +56,8 @@ from validation.studies.hemisphere_plies_setup import (
 )
 
 __all__ = [
+    "case_settings",
+    "case_solver",
     "run_key",
     "NAME",
     "RMS_TOLERANCE_DEG",
@@ -98,6 +100,35 @@ def _duration(name: str, kinematics: str) -> float:
     """The stroke of the ``name`` layup's ``kinematics`` run, s: DURATION (as this module
     holds it) times its STROKE_SLOWING (validation/studies/hemisphere_plies_setup.py)."""
     return DURATION * STROKE_SLOWING.get((name, kinematics), 1.0)
+
+
+def case_settings(name: str, kinematics: str, share: float = 1.0, **options: Any) -> dict:
+    """CentralDifference's settings (numbers, text, None: JSON) of the ``name`` layup's
+    ``kinematics`` run: over ``share`` of the run's stroke (s: DURATION times its
+    STROKE_SLOWING), DAMPING, no progress line, a frame every hundredth of that time;
+    ``options`` CentralDifference's others, or these replaced (``output_interval=None``: its
+    default, 20 frames). A benchmark that runs another tree's code hands them over."""
+    duration = share * _duration(name, kinematics)
+    settings = {
+        "duration": duration,
+        "damping": DAMPING,
+        "progress": False,
+        "output_interval": duration / 100,
+    }
+    return settings | options
+
+
+def case_solver(
+    name: str,
+    kinematics: str,
+    share: float = 1.0,
+    history: str | Path | None = None,
+    **options: Any,
+) -> CentralDifference:
+    """The solver of the ``name`` layup's ``kinematics`` run (``run``'s, and the benchmarks'
+    that time or probe the case): ``case_settings``, the energy and tool records written to
+    ``history`` (a .csv path; None: none)."""
+    return CentralDifference(history=history, **case_settings(name, kinematics, share, **options))
 
 
 def run_key(name: str, kinematics: str, force: float) -> str:
@@ -248,13 +279,7 @@ def run(
     spring[holding.connectivity[:, 0]] = holding.stiffness
     with tempfile.TemporaryDirectory() as folder:
         records = Path(folder) / "history.csv" if history is None else Path(history)
-        solver = CentralDifference(
-            duration=duration,
-            damping=DAMPING,
-            progress=False,
-            output_interval=duration / 100,
-            history=records,
-        )
+        solver = case_solver(name, kinematics, history=records)
         start = time.process_time()
         try:
             result = solver.solve(solved)
