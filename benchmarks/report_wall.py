@@ -6,10 +6,10 @@ same warm numba cache; per run: the wall time, the CPU time of every process of 
 report's, its workers', from the children's rusage), the sum of the cases' ``case_cpu_s``,
 that sum over the jobs (the ideal wall, were the tasks spread evenly and free of overhead),
 the largest task (a whole case, or a part of a case in parts: ``Case.parts``) and the
-machine's load before and after. Each code's report folder is kept between rounds, so that a
-later round orders its tasks by the times the earlier one measured (as a user's ``--out
-report`` does); its results.json is compared with the first run's, number by number, the
-times aside.
+machine's load before and after; the report's printed lines kept beside its folder. Each
+code's report folder is kept between rounds, so that a later round orders its tasks by the
+times the earlier one measured (as a user's ``--out report`` does); its results.json is
+compared with the first run's, number by number, the times aside (those in texts too).
 
 ``overheads``: the fixed costs in the wall, each in a fresh process of this tree: the report
 process's imports, a spawned worker's start and imports (up to its first task), a case
@@ -31,6 +31,7 @@ from __future__ import annotations
 import argparse
 import json
 import os
+import re
 import resource
 import subprocess
 import sys
@@ -41,7 +42,9 @@ ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # this tree's packages
 TIMES = ("case_time_s", "case_cpu_s", "parts", "wall_time_s", "generated")
 # parameters that hold a measured time (the runs' wall and CPU, their load): not compared
-TIMED_WORDS = ("wall_time", "cpu_time", "runtime", "_wall_s", "_cpu_s")
+TIMED_WORDS = ("wall_time", "wall time", "cpu_time", "runtime", "_wall_s", "_cpu_s")
+# a time in a text ("..., 33.2 s" in a paper case's solver line, "15.7 s elapsed")
+SECONDS = re.compile(r"\d+(\.\d+)? s\b")
 
 
 def _children_cpu() -> float:
@@ -61,7 +64,7 @@ def _numbers(value, path: str = ""):
         for i, item in enumerate(value):
             yield from _numbers(item, f"{path}/{i}")
     else:
-        yield path, value
+        yield path, SECONDS.sub("(time) s", value) if isinstance(value, str) else value
 
 
 def differences(first: dict, second: dict) -> list[str]:
@@ -99,6 +102,7 @@ def walls(codes: list[str], out: Path, rounds: int, jobs: int, resolution: str) 
                 cwd=code, env=env, capture_output=True, text=True,
             )  # fmt: skip
             wall, used = time.perf_counter() - started, _children_cpu() - cpu
+            (out / f"{i}-round{round_ + 1}.log").write_text(run.stdout + run.stderr)
             content = json.loads((folder / "results.json").read_text())
             cases = content["cases"].values()
             case_cpu = sum(case.get("case_cpu_s") or 0.0 for case in cases)
