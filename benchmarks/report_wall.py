@@ -74,15 +74,30 @@ def differences(first: dict, second: dict) -> list[str]:
     return sorted(p for p in a.keys() | b.keys() if a.get(p, "missing") != b.get(p, "missing"))
 
 
-def largest_task(content: dict) -> tuple[str, float]:
-    """The task of the report with the most CPU (s): a case, or a part of a case in parts."""
-    tasks = []
+def tasks(content: dict) -> list[tuple[str, float]]:
+    """The report's tasks and their CPU (s): a case, or a part of a case in parts."""
+    found = []
     for name, case in content["cases"].items():
         if "parts" in case:
-            tasks += [(f"{name}: {key}", part["cpu_s"]) for key, part in case["parts"].items()]
+            found += [(f"{name}: {key}", part["cpu_s"]) for key, part in case["parts"].items()]
         else:
-            tasks.append((name, case.get("case_cpu_s") or 0.0))
-    return max(tasks, key=lambda task: task[1])
+            found.append((name, case.get("case_cpu_s") or 0.0))
+    return found
+
+
+def largest_task(content: dict) -> tuple[str, float]:
+    """The task of the report with the most CPU (s): a case, or a part of a case in parts."""
+    return max(tasks(content), key=lambda task: task[1])
+
+
+def packed(content: dict, jobs: int) -> float:
+    """The report's tasks' CPU times packed on ``jobs`` free cores, the longest first, each
+    to the core free first (s): its wall on a quiet machine, the overheads and the combining
+    steps aside; a figure the machine's load does not move."""
+    ends = [0.0] * jobs
+    for _, cpu in sorted(tasks(content), key=lambda task: -task[1]):
+        ends[ends.index(min(ends))] += cpu
+    return max(ends)
 
 
 def walls(codes: list[str], out: Path, rounds: int, jobs: int, resolution: str) -> None:
@@ -114,7 +129,8 @@ def walls(codes: list[str], out: Path, rounds: int, jobs: int, resolution: str) 
                 f"round {round_ + 1}, code {code} (tasks ordered by the {ordered}): "
                 f"wall {wall:.1f} s, every process {used:.1f} s CPU, cases {case_cpu:.1f} s CPU, "
                 f"/ {jobs} = {case_cpu / jobs:.1f} s, wall - that {wall - case_cpu / jobs:.1f} s; "
-                f"largest task {name} {largest:.1f} s; "
+                f"largest task {name} {largest:.1f} s; the tasks packed on {jobs} free "
+                f"cores {packed(content, jobs):.1f} s; "
                 f"{sum(c['passed'] for c in checks)}/{len(checks)} checks, exit {run.returncode}; "
                 f"{len(moved)} numbers differ from the first run{': ' if moved else ''}"
                 f"{', '.join(moved[:5])}; load {load[0]:.1f} -> {os.getloadavg()[0]:.1f}",

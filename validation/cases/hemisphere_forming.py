@@ -60,6 +60,10 @@ monotone) its observed order: RMS_TOLERANCE_DEG per mesh is.
 The measurements that led to the case's settings (the sharp die, the 5-mm round, the
 holder's force, contact damping, friction, soft compression; all with the plane holder):
 docs/hemisphere_forming.md.
+The runs (fibrous and Mindlin, and at the fine resolution those on the order's other meshes)
+are the case's independent parts (``parts``, gathered by ``combine``): with several jobs the
+report runs each as a task of its own (validation/report.py), with the same results as one
+after another.
 """
 
 from __future__ import annotations

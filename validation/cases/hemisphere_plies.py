@@ -65,7 +65,9 @@ tests/test_hemisphere_plies.py reads: 116 s of CPU for the case, the runs 59 and
 checks passing, load 3.2-4.7; the [0/45] run alone 89.6 s before); the finer mesh (10 cells,
 the fine report: its four runs below) and the second holder force (40 N, the holder's
 sensitivity) are the study's (validation/studies/hemisphere_plies.py), with what they gave
-and what led to the settings.
+and what led to the settings. The runs are the case's independent parts (``parts``, gathered
+by ``combine``): with several jobs the report runs each as a task of its own
+(validation/report.py), with the same results as one after another.
 Measured now (8 cells, 20 N, the holder on both plies, the fade's SIDEWAYS = 1; ``python -m
 validation --cases hemisphere-plies --jobs 1``, one thread, load 3.8-5.6, compiling afresh:
 the first run's CPU holds the kernels' compilation; per ply, ply 1 / ply 2, the rms of shear -
