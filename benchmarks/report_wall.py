@@ -22,8 +22,31 @@ Usage::
     python benchmarks/report_wall.py walls --code /tmp/before --code . --out /tmp/walls
     python benchmarks/report_wall.py overheads --results /tmp/walls/1/results.json
 
-Measured: the module's figures are in the closing notes of the change that made the cases'
-parts (the report's docstring, validation/report.py, says how the tasks are scheduled).
+Measured (``walls``, default resolution, ``--jobs 2``, one numba thread, a warm cache, the
+code before (main 3228ca0: a case is one task) and this (hemisphere-plies' four runs and
+hemisphere-forming's two are tasks of their own) alternating, two rounds; 2 cores shared with
+other jobs, load 6.6-13.7, which sets the walls, 386-585 s: no figure of the report's):
+
+    round 2        every process   cases' CPU   / 2    largest task              packed
+    before         183.0 s         176.5 s      88.2   hemisphere-plies 64.3 s   88.3 s
+    this           188.5 s         183.2 s      91.6   plies Mindlin [0/90] 27.8 90.4 s
+
+187 of 187 checks both; every number of results.json the same (the times aside), the split
+cases' too. At today's CPU the packed wall is already the CPU over the jobs (the rest of the
+cases fill the other core beside hemisphere-plies); what changes is its floor: a case's CPU
+(hemisphere-plies 48-64 s) before, a run's (its Mindlin [0/90] run, 19-28 s) now, so that the
+cases' CPU cuts bring the wall down with them. The parts' price: hemisphere-plies 64.3 ->
+70.1 s of case CPU (68.7 in its parts, 1.4 s combining and drawing in the report's process),
+hemisphere-forming 35.7 -> 34.5 (1.1 s combining), at this load's scatter; its source is the
+kernels' cache loaded by both workers where one did (below) and the parent's matplotlib.
+
+``overheads`` (load 10-11.5, CPU; the least of one fresh process): the report process's
+imports 1.20 s, a spawned worker's start and imports 1.26 s (each worker once: the pool keeps
+its processes for all their tasks), a hemisphere-plies part's first run 12.17 s against 11.02
+s for its second in the same process (1.15 s of numba's cached kernels loaded once per
+worker), results.json and index.html written 0.02 s. So about 2.5 s of wall before the first
+task starts (the report's imports, then the workers'), about 1 s per kernel family a worker
+meets, and nothing to speak of at the end.
 """
 
 from __future__ import annotations
