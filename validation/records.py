@@ -7,6 +7,13 @@ and, in ``Outcome.data``, what its figures draw and its VTU files hold) and a ``
 with its caption). The report runner calls ``compute`` then ``render`` and serialises the
 records to results.json with their ``to_json`` methods (the keys and their order are those of
 the report's JSON format).
+
+A case whose computation is a few independent runs may declare them as parts: ``parts``
+(resolution -> {part key: a function of no argument returning that part's data}) and
+``combine`` (resolution, {part key: data} -> the ``Outcome``). With several jobs the report
+runs each part as a task of its own in its worker pool and combines their data in its own
+process (validation/report.py); with one job, and through ``compute``, the parts run one after
+another in one process, with the same results.
 """
 
 from __future__ import annotations
@@ -32,6 +39,7 @@ __all__ = [
     "SideProfile",
     "SideSummary",
     "caption_problem",
+    "compute_parts",
 ]
 
 RESOLUTIONS = ("coarse", "default", "fine")
@@ -345,8 +353,9 @@ class Outcome:
     data: Any = field(default=None, repr=False, compare=False)
 
     @classmethod
-    def failed(cls, error: BaseException) -> Outcome:
-        """The outcome of a case that raised ``error``."""
+    def failed(cls, error: BaseException | str) -> Outcome:
+        """The outcome of a case that raised ``error`` (or the error's text: "Type: message",
+        a part's error as its worker process reported it)."""
         return cls(
             converged=False,
             wall_time_s=0.0,
@@ -354,7 +363,7 @@ class Outcome:
             solver="",
             parameters={},
             checks=[],
-            error=f"{type(error).__name__}: {error}",
+            error=error if isinstance(error, str) else f"{type(error).__name__}: {error}",
         )
 
 
@@ -381,6 +390,14 @@ class Case:
     render : callable
         ``render(data, out_dir) -> list[Figure]``: draws the figures and writes the VTU files
         of ``Outcome.data`` into ``out_dir``, returns each figure's file and caption.
+    parts : callable or None
+        For a case made of independent runs: ``parts(resolution) -> {key: run}``, each ``run``
+        a function of no argument (picklable: a module's function or a ``functools.partial``
+        of one) returning its part's data (picklable too: it may come back from a worker
+        process); cheap to call, as every worker that runs a part calls it. None: one task.
+    combine : callable or None
+        With ``parts``: ``combine(resolution, {key: data}) -> Outcome``, the outcome ``compute``
+        returns (``compute(resolution)`` is ``combine`` of the parts run in order).
     """
 
     name: str
@@ -391,11 +408,19 @@ class Case:
     order: int
     compute: Callable[[str], Outcome] = field(repr=False)
     render: Callable[[Any, Path], list[Figure]] = field(repr=False)
+    parts: Callable[[str], dict[str, Callable[[], Any]]] | None = field(default=None, repr=False)
+    combine: Callable[[str, dict[str, Any]], Outcome] | None = field(default=None, repr=False)
 
     def __post_init__(self) -> None:
         if self.group not in GROUPS:
             raise ValueError(
                 f"case {self.name!r}: group must be one of {', '.join(GROUPS)}, got {self.group!r}"
+            )
+        if (self.parts is None) != (self.combine is None):
+            raise ValueError(
+                f"case {self.name!r}: parts and combine are given together (a case in parts "
+                f"needs the step that combines them) or not at all, got parts "
+                f"{self.parts!r} and combine {self.combine!r}"
             )
 
     @property
@@ -404,16 +429,29 @@ class Case:
         return GROUPS.index(self.group), self.order, self.name
 
 
+def compute_parts(
+    parts: Callable[[str], dict[str, Callable[[], Any]]],
+    combine: Callable[[str, dict[str, Any]], Outcome],
+    resolution: str,
+) -> Outcome:
+    """The outcome of a case in parts at ``resolution``: its ``parts`` run one after another
+    in this process, in their order, then ``combine``d (a case's ``compute``)."""
+    return combine(resolution, {key: run() for key, run in parts(resolution).items()})
+
+
 @dataclass(frozen=True)
 class CaseResult:
     """A case and its outcome in the report, with the wall time of compute and render and,
     where measured, the CPU time of the process that ran them (s; its threads included, not
-    its child processes: bai-6.1.1-sensitivity's Dask workers)."""
+    its child processes: bai-6.1.1-sensitivity's Dask workers). A case in parts
+    (``Case.parts``): the sums over its parts and the step that combined them and drew the
+    figures, wherever they ran, and ``parts`` each part's (wall, CPU) time, s, by its key."""
 
     case: Case
     outcome: Outcome
     case_time_s: float
     case_cpu_s: float | None = None
+    parts: dict[str, tuple[float, float]] | None = None
 
     @property
     def passed(self) -> int:
@@ -461,6 +499,10 @@ class CaseResult:
             )
             if self.case_cpu_s is not None:
                 record["case_cpu_s"] = self.case_cpu_s
+        if self.parts is not None:
+            record["parts"] = {
+                key: {"time_s": wall, "cpu_s": cpu} for key, (wall, cpu) in self.parts.items()
+            }
         record.update(
             title=self.case.title,
             source=self.case.source,

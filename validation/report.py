@@ -1,4 +1,17 @@
-"""Run validation cases and write the report folder: results.json, index.html, figures, VTU."""
+"""Run validation cases and write the report folder: results.json, index.html, figures, VTU.
+
+With ``jobs`` of 1 the cases run one after another in this process. With more, a pool of
+``jobs`` spawned worker processes runs tasks, the longest first (``schedule_tasks``: the last
+report's times in the same folder, else ``EXPECTED_CPU_S``): a task is a whole case, or one
+part of a case made of independent runs (``Case.parts``: hemisphere-plies' runs, one per
+layup and kinematics, and hemisphere-forming's, one per kinematics and mesh). A part's data
+comes back pickled; once a case's last part is in, this process combines them
+(``Case.combine``) and draws the figures while the workers go on, so that the report's wall
+time follows the cases' CPU time over ``jobs`` rather than its longest case. A case's
+results are the same split or not; its results.json entry then holds each part's time
+(``parts``), its ``case_time_s`` and ``case_cpu_s`` the sums of the parts' and the combining
+step's. benchmarks/report_wall.py measures the wall against CPU / jobs.
+"""
 
 from __future__ import annotations
 
@@ -6,6 +19,7 @@ import ctypes
 import json
 import multiprocessing
 import os
+import pickle
 import platform
 import signal
 import threading
@@ -22,7 +36,7 @@ import numpy as np
 
 from elements.jit import free_cores
 from validation.cases import CASES
-from validation.records import CaseResult, Figure, Outcome, Report
+from validation.records import Case, CaseResult, Figure, Outcome, Report
 from validation.report_html import INTRODUCTION, STYLE, render_html
 
 __all__ = [
@@ -32,10 +46,12 @@ __all__ = [
     "default_jobs",
     "expected_cost",
     "measured_costs",
+    "measured_part_costs",
     "render_html",
     "run_case",
     "run_cases",
     "schedule",
+    "schedule_tasks",
 ]
 
 # The CPU time of each case, its computation and its figures (s, one numba thread), at the
@@ -210,6 +226,32 @@ def measured_costs(out_dir: Path, names: list[str], resolution: str) -> dict[str
     return costs if all(np.isfinite(list(costs.values()))) else None
 
 
+def measured_part_costs(
+    out_dir: Path, names: list[str], resolution: str
+) -> dict[str, dict[str, float]]:
+    """The part times (s) of the cases in parts among ``names`` in the report already in
+    ``out_dir`` (its results.json's "parts" entries, wall time), by case name and part key,
+    when that report ran at ``resolution``; a case without them (no report there, another
+    resolution, a failed case, a case not in parts then) is left out."""
+    try:
+        content = json.loads((out_dir / "results.json").read_text())
+        if content["resolution"] != resolution:
+            return {}
+        cases = content["cases"]
+    except (OSError, ValueError, KeyError, TypeError):
+        return {}
+    found = {}
+    for name in names:
+        try:
+            entry = cases[name]
+            costs = {key: float(part["time_s"]) for key, part in entry["parts"].items()}
+        except (KeyError, TypeError, ValueError, AttributeError):
+            continue
+        if "error" not in entry and all(np.isfinite(list(costs.values()))):
+            found[name] = costs
+    return found
+
+
 def schedule(
     names: list[str], resolution: str, measured: dict[str, float] | None = None
 ) -> list[str]:
@@ -219,6 +261,33 @@ def schedule(
     if measured is not None:
         return sorted(names, key=lambda name: -measured[name])
     return sorted(names, key=lambda name: -expected_cost(name, resolution))
+
+
+def schedule_tasks(
+    names: list[str],
+    resolution: str,
+    measured: dict[str, float] | None = None,
+    measured_parts: dict[str, dict[str, float]] | None = None,
+) -> list[tuple[str, str | None]]:
+    """The worker pool's tasks, (case name, part key or None for the whole case), in the
+    order the workers start them: one per case, or one per part of a case in parts
+    (``Case.parts``); the largest cost first, report order and then the parts' order among
+    equals. A whole case costs as in ``schedule``; a part its time in the last report
+    (``measured_part_costs``) when that report timed every part of its case, else its case's
+    cost (``measured`` or ``expected_cost``) shared evenly among its parts."""
+    tasks: list[tuple[float, str, str | None]] = []
+    for name in names:
+        case_cost = measured[name] if measured is not None else expected_cost(name, resolution)
+        parts = CASES[name].parts
+        if parts is None:
+            tasks.append((case_cost, name, None))
+            continue
+        keys = list(parts(resolution))
+        last = (measured_parts or {}).get(name, {})
+        for key in keys:
+            cost = last[key] if set(last) == set(keys) else case_cost / max(len(keys), 1)
+            tasks.append((cost, name, key))
+    return [(name, key) for _, name, key in sorted(tasks, key=lambda task: -task[0])]
 
 
 def default_jobs() -> int:
@@ -235,20 +304,25 @@ def run_case(name: str, resolution: str, out_dir: Path) -> CaseResult:
     A case that raises (in its computation or its figures), or whose ``render`` returns a
     figure without a caption (a file name rather than a ``Figure``), is recorded as failed,
     with its error, and not raised.
+
+    A case in parts (``Case.parts``) runs them one after another here, each timed, then
+    combines them: its result's ``parts`` holds each part's (wall, CPU) time, s.
     """
     case = CASES[name]
     started, cpu = time.perf_counter(), time.process_time()
+    times: dict[str, tuple[float, float]] = {}
     try:
-        outcome = case.compute(resolution)
-        figures = list(case.render(outcome.data, out_dir))
-        for figure in figures:
-            if not isinstance(figure, Figure):
-                raise TypeError(
-                    f"case {name!r}: figure {figure!r} has no caption: its render returns "
-                    "validation.records.Figure(file, caption) records, a caption of a sentence "
-                    "or two (what is shown, which kinematics, what to look at)"
-                )
-        outcome = replace(outcome, figures=[_sized(figure, out_dir) for figure in figures])
+        if case.parts is None:
+            outcome = case.compute(resolution)
+        else:
+            data = {}
+            for key, part in case.parts(resolution).items():
+                part_started, part_cpu = time.perf_counter(), time.process_time()
+                data[key] = part()
+                times[key] = (time.perf_counter() - part_started, time.process_time() - part_cpu)
+            assert case.combine is not None  # Case requires both
+            outcome = case.combine(resolution, data)
+        outcome = _drawn(case, outcome, out_dir)
     except Exception as error:  # a broken case is reported, never hidden
         outcome = Outcome.failed(error)
     return CaseResult(
@@ -256,6 +330,53 @@ def run_case(name: str, resolution: str, out_dir: Path) -> CaseResult:
         outcome=outcome,
         case_time_s=time.perf_counter() - started,
         case_cpu_s=time.process_time() - cpu,
+        parts=None if case.parts is None else times,
+    )
+
+
+def _drawn(case: Case, outcome: Outcome, out_dir: Path) -> Outcome:
+    """``outcome`` with the figures ``case.render`` drew of its data into ``out_dir``; a
+    TypeError when one of them is not a ``Figure`` (a file name without a caption)."""
+    figures = list(case.render(outcome.data, out_dir))
+    for figure in figures:
+        if not isinstance(figure, Figure):
+            raise TypeError(
+                f"case {case.name!r}: figure {figure!r} has no caption: its render returns "
+                "validation.records.Figure(file, caption) records, a caption of a sentence "
+                "or two (what is shown, which kinematics, what to look at)"
+            )
+    return replace(outcome, figures=[_sized(figure, out_dir) for figure in figures])
+
+
+def _combined(
+    case: Case,
+    resolution: str,
+    data: dict[str, bytes],
+    times: dict[str, tuple[float, float]],
+    error: str | None,
+    out_dir: Path,
+) -> CaseResult:
+    """The result of a case whose parts ran in the workers: their ``data`` (pickled) by key
+    (in the parts' order) combined and drawn here, or the ``error`` (its text) of the first part, in
+    their order, that raised; the
+    case's wall and CPU times the sums of the parts' ``times`` (wall, CPU; s) and this
+    step's."""
+    started, cpu = time.perf_counter(), time.process_time()
+    if error is not None:
+        outcome = Outcome.failed(error)
+    else:
+        try:
+            assert case.combine is not None  # Case requires both
+            made = {key: pickle.loads(payload) for key, payload in data.items()}
+            outcome = _drawn(case, case.combine(resolution, made), out_dir)
+        except Exception as failure:  # a broken case is reported, never hidden
+            outcome = Outcome.failed(failure)
+    return CaseResult(
+        case=case,
+        outcome=outcome,
+        case_time_s=time.perf_counter() - started + sum(wall for wall, _ in times.values()),
+        case_cpu_s=time.process_time() - cpu + sum(used for _, used in times.values()),
+        parts=times,
     )
 
 
@@ -308,6 +429,24 @@ def _run_in_worker(name: str, resolution: str, out_dir: Path, threads: int):
     return replace(result.outcome, data=None), result.case_time_s, result.case_cpu_s
 
 
+def _run_part_in_worker(case: Case, resolution: str, key: str, threads: int):
+    """One part of ``case`` (``Case.parts``) in a worker process: (its data pickled, None, its
+    wall time, its CPU time, the pickling's included), or (None, the error's text, ...) when
+    it raised. Pickled here, so that the part's time holds what sending its data costs (the
+    parent's unpickling is in the combining step's)."""
+    import numba
+
+    numba.set_num_threads(threads)  # the cores are shared between the workers
+    started, cpu = time.perf_counter(), time.process_time()
+    try:
+        assert case.parts is not None
+        data = case.parts(resolution)[key]()
+        payload, error = pickle.dumps(data, protocol=pickle.HIGHEST_PROTOCOL), None
+    except Exception as failure:  # the case is reported failed, never hidden
+        payload, error = None, Outcome.failed(failure).error
+    return payload, error, time.perf_counter() - started, time.process_time() - cpu
+
+
 def run_cases(
     names: list[str],
     resolution: str,
@@ -336,12 +475,14 @@ def run_cases(
         Every case's outcome; a case that raised is recorded as failed and the others run.
     """
     out_dir.mkdir(parents=True, exist_ok=True)
-    measured = measured_costs(out_dir, names, resolution)  # before this report replaces it
+    # before this report replaces them
+    measured = measured_costs(out_dir, names, resolution)
+    measured_parts = measured_part_costs(out_dir, names, resolution)
     # One line per case here: the solvers' own progress lines stay off (workers inherit it).
     before = os.environ.get("FIBRESHELL_PROGRESS")
     os.environ["FIBRESHELL_PROGRESS"] = "0"
     try:
-        results = _run_all(names, resolution, out_dir, echo, jobs, measured)
+        results = _run_all(names, resolution, out_dir, echo, jobs, measured, measured_parts)
     finally:
         if before is None:
             del os.environ["FIBRESHELL_PROGRESS"]
@@ -367,9 +508,13 @@ def _run_all(
     echo: Callable[..., Any],
     jobs: int,
     measured: dict[str, float] | None = None,
+    measured_parts: dict[str, dict[str, float]] | None = None,
 ) -> dict[str, CaseResult]:
-    """The cases of ``run_cases``, one after another or in ``jobs`` worker processes (the
-    longest first by ``measured``, the last report's case times, else ``EXPECTED_CPU_S``)."""
+    """The cases of ``run_cases``, one after another or in ``jobs`` worker processes: the
+    tasks of ``schedule_tasks`` (a case, or a part of a case in parts) the longest first by
+    ``measured`` and ``measured_parts``, the last report's times, else ``EXPECTED_CPU_S``. A
+    case in parts is combined and drawn here once its last part is in, while the workers go
+    on with the other tasks."""
     results: dict[str, CaseResult] = {}
 
     def done(result: CaseResult, before: str = "") -> None:
@@ -382,33 +527,63 @@ def _run_all(
         cpu = "" if result.case_cpu_s is None else f" ({result.case_cpu_s:.1f} s CPU)"
         echo(f"{before}{result.case_time_s:.1f} s{cpu}, {status}")
 
-    jobs = min(jobs, len(names))  # one case runs here, without a worker to spawn
+    tasks = schedule_tasks(names, resolution, measured, measured_parts) if jobs > 1 else []
+    jobs = min(jobs, len(tasks))  # one task runs here, without a worker to spawn
     if jobs <= 1:
         for i, name in enumerate(names, 1):
             echo(f"[{i}/{len(names)}] {name}: {CASES[name].title} ...", end=" ", flush=True)
             results[name] = run_case(name, resolution, out_dir)
             done(results[name])
-    else:
-        # Spawned workers: numba's thread pool must not be forked. The longest case first.
-        context = multiprocessing.get_context("spawn")
-        # The cores shared between the workers, never more threads than numba may start
-        # (NUMBA_NUM_THREADS, which the spawned workers inherit).
-        most = numba.config.NUMBA_NUM_THREADS  # type: ignore[attr-defined]
-        threads = max(1, min((os.cpu_count() or 1) // jobs, most))
-        with ProcessPoolExecutor(
-            jobs, mp_context=context, initializer=_end_with, initargs=(os.getpid(),)
-        ) as pool:
-            futures = {
-                pool.submit(_run_in_worker, name, resolution, out_dir, threads): name
-                for name in schedule(names, resolution, measured)
-            }
-            for count, future in enumerate(as_completed(futures), 1):
-                name = futures[future]
+        return results
+    # Spawned workers: numba's thread pool must not be forked. The longest task first.
+    context = multiprocessing.get_context("spawn")
+    # The cores shared between the workers, never more threads than numba may start
+    # (NUMBA_NUM_THREADS, which the spawned workers inherit).
+    most = numba.config.NUMBA_NUM_THREADS  # type: ignore[attr-defined]
+    threads = max(1, min((os.cpu_count() or 1) // jobs, most))
+    # a case in parts: its parts' keys in their order, the data, times and errors of those in
+    waiting = {
+        name: list(parts(resolution)) for name in names if (parts := CASES[name].parts) is not None
+    }
+    gathered: dict[str, dict[str, Any]] = {name: {} for name in names}
+    timed: dict[str, dict[str, tuple[float, float]]] = {name: {} for name in names}
+    failed: dict[str, dict[str, str]] = {name: {} for name in names}
+    with ProcessPoolExecutor(
+        jobs, mp_context=context, initializer=_end_with, initargs=(os.getpid(),)
+    ) as pool:
+        futures = {}
+        for name, key in tasks:
+            if key is None:
+                future = pool.submit(_run_in_worker, name, resolution, out_dir, threads)
+            else:
+                future = pool.submit(_run_part_in_worker, CASES[name], resolution, key, threads)
+            futures[future] = (name, key)
+        for future in as_completed(futures):
+            name, key = futures[future]
+            if key is None:
                 outcome, seconds, cpu = future.result()
                 results[name] = CaseResult(CASES[name], outcome, seconds, cpu)
-                done(results[name], f"[{count}/{len(names)}] {name}: {CASES[name].title}: ")
-        results = {name: results[name] for name in names}  # report order
-    return results
+            else:
+                data, error, seconds, cpu = future.result()
+                size = f", {len(data) / 1e6:.1f} MB of data" if data is not None else ""
+                echo(f"  {name}, part {key}: {seconds:.1f} s ({cpu:.1f} s CPU){size}")
+                timed[name][key] = (seconds, cpu)
+                if error is not None:
+                    failed[name][key] = error
+                gathered[name][key] = data
+                if len(timed[name]) < len(waiting[name]):
+                    continue
+                order = waiting[name]  # the parts' own order, for combine
+                results[name] = _combined(
+                    CASES[name],
+                    resolution,
+                    {k: gathered[name].pop(k) for k in order},
+                    {k: timed[name][k] for k in order},
+                    next((failed[name][k] for k in order if k in failed[name]), None),
+                    out_dir,
+                )
+            done(results[name], f"[{len(results)}/{len(names)}] {name}: {CASES[name].title}: ")
+    return {name: results[name] for name in names}  # report order
 
 
 def _strict(value: Any) -> Any:

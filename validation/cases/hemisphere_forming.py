@@ -60,6 +60,10 @@ monotone) its observed order: RMS_TOLERANCE_DEG per mesh is.
 The measurements that led to the case's settings (the sharp die, the 5-mm round, the
 holder's force, contact damping, friction, soft compression; all with the plane holder):
 docs/hemisphere_forming.md.
+The runs (fibrous and Mindlin, and at the fine resolution those on the order's other meshes)
+are the case's independent parts (``parts``, gathered by ``combine``): with several jobs the
+report runs each as a task of its own (validation/report.py), with the same results as one
+after another.
 """
 
 from __future__ import annotations
@@ -69,7 +73,6 @@ import math
 import os
 import time
 from dataclasses import dataclass, field
-from pathlib import Path
 from typing import Any
 
 import numpy as np
@@ -95,14 +98,23 @@ from validation.forming_measures import (
 )
 from validation.forming_scaling import TIME_SCALING, kinetic_margin_check, stroke_words
 from validation.paper.orders import observed_orders
-from validation.plots import figure, save
-from validation.records import Case, Figure, ObservedOrder, Outcome
+from validation.records import Case, ObservedOrder, Outcome, compute_parts
 from validation.references import centre_line_draw_in as draw_in
 from validation.references.centre_line_draw_in import chord_shortfall
 from validation.references.drape import fishnet_on_sphere
 from validation.specimens import hemisphere_die
+from validation.studies.hemisphere_forming_figures import render
 
-__all__ = ["CASE", "HemisphereData", "blank_shear", "chord_shortfall", "compute", "render"]
+__all__ = [
+    "CASE",
+    "HemisphereData",
+    "blank_shear",
+    "chord_shortfall",
+    "combine",
+    "compute",
+    "parts",
+    "render",
+]
 
 NAME = "hemisphere-forming"
 TITLE = "Hemisphere forming: shear angles against the pin-jointed net, draw-in and wrinkles"
@@ -535,15 +547,40 @@ def order_checks(records: list[ObservedOrder]) -> list:
     return checks
 
 
+def parts(resolution: str) -> dict[str, Any]:
+    """The case's independent runs (``Case.parts``; the report runs them at once with several
+    jobs), each ``run`` at its kinematics' TIME_SCALING: "fibrous" and "mindlin" on the
+    resolution's mesh, then "<kinematics> n = <cells>" on the other meshes of
+    ``ORDER_CELLS[resolution]`` (none when it names no sequence)."""
+    cells, speed = CELLS[resolution], _speeds(resolution)
+    meshes = [(cells, "")] + [
+        (n, f" n = {n}") for n in ORDER_CELLS.get(resolution, ()) if n != cells
+    ]
+    return {
+        f"{kinematics}{label}": functools.partial(
+            run, n, kinematics, time_scaling=speed[kinematics]
+        )
+        for n, label in meshes
+        for kinematics in ("fibrous", "mindlin")
+    }
+
+
+def _speeds(resolution: str) -> dict[str, float]:
+    """Each kinematics' TIME_SCALING at ``resolution``."""
+    return {kinematics: TIME_SCALING[kinematics][resolution] for kinematics in TIME_SCALING}
+
+
 def compute(resolution: str) -> Outcome:
-    cells = CELLS[resolution]
-    runs: dict[str, dict[str, Any]] = {}
-    net = None
-    speed = {kinematics: TIME_SCALING[kinematics][resolution] for kinematics in TIME_SCALING}
-    for kinematics in ("fibrous", "mindlin"):
-        runs[kinematics] = run(cells, kinematics, net, time_scaling=speed[kinematics])
-        net = net_shear_at(runs[kinematics]["mesh"]) if net is None else net
-    assert net is not None
+    """The case's ``parts`` run one after another, then ``combine``d."""
+    return compute_parts(parts, combine, resolution)
+
+
+def combine(resolution: str, made: dict[str, Any]) -> Outcome:
+    """The outcome of the runs ``made`` by ``parts`` (their records by key): the parameters,
+    the checks, the observed orders (when ``ORDER_CELLS`` names a sequence) and the data."""
+    cells, speed = CELLS[resolution], _speeds(resolution)
+    runs: dict[str, dict[str, Any]] = {k: made[k] for k in ("fibrous", "mindlin")}
+    net = net_shear_at(runs["fibrous"]["mesh"])
     mesh = runs["fibrous"]["mesh"]
 
     checks = []
@@ -575,7 +612,12 @@ def compute(resolution: str) -> Outcome:
         "centre_line_draw_in_range_mm": centre_line_draw_in_range(cells),
         "cornered_centre_line_draw_in_mm": cornered_centre_line_draw_in()[0],
     }
-    extra = _more_runs(resolution, cells, runs, speed)
+    extra = {
+        (kinematics, int(n)): made[key]
+        for key in made
+        if " n = " in key
+        for kinematics, n in [key.split(" n = ")]
+    }
     for kinematics, record in runs.items():
         result = record["result"]
         parameters[f"{kinematics}_cells_compared"] = int(record["compared"].sum())
@@ -675,112 +717,6 @@ def compute(resolution: str) -> Outcome:
     )
 
 
-def _more_runs(resolution, cells, runs, speed) -> dict[tuple[str, int], dict[str, Any]]:
-    """The runs on the other meshes of ``ORDER_CELLS[resolution]`` (none when it names no
-    sequence), keyed by (kinematics, cells), each at its kinematics' ``speed``."""
-    extra = {}
-    for n in ORDER_CELLS.get(resolution, ()):
-        if n != cells:
-            for kinematics in runs:
-                extra[(kinematics, n)] = run(n, kinematics, time_scaling=speed[kinematics])
-    return extra
-
-
-def render(data: HemisphereData, out_dir: Path) -> list[Figure]:
-    """The shear angle fields (fibrous, Mindlin, the net) over the blank, the deformed
-    fibres seen from above (the draw-in), and the punch force against its travel."""
-    import matplotlib.pyplot as plt
-    from matplotlib.tri import Triangulation
-
-    mesh = data.mesh
-    figures = []
-    flat = Triangulation(mesh.points[:, 0], mesh.points[:, 1], mesh.triangles)
-    # Two rows of two, 8.5 in at 110 dpi (935 px): on an 800-px screen its 10-pt text
-    # still reads as 9 pt. The fourth place holds the colour scale the three share.
-    fig, grid = plt.subplots(2, 2, figsize=(8.5, 8.0), layout="constrained")
-    axes, key = grid.ravel()[:3], grid[1, 1]
-    fields = [
-        ("(a) fibrous shell", data.shear["fibrous"]),
-        ("(b) Mindlin shell", data.shear["mindlin"]),
-        ("(c) pin-jointed net (Mack and Taylor)", data.net_shear),
-    ]
-    top = np.nanmax(np.abs(np.degrees(data.net_shear)))
-    for ax, (label, values) in zip(axes, fields):
-        shown = np.degrees(np.where(np.isfinite(values), values, np.nan))
-        art = ax.tripcolor(flat, shown, cmap="coolwarm", vmin=-top, vmax=top)
-        ax.set_title(label, fontsize=11)
-        ax.set_aspect("equal")
-        ax.set_xlabel("blank x (mm)")
-        ax.set_ylabel("blank y (mm)")
-    key.axis("off")
-    bar = fig.colorbar(art, cax=key.inset_axes((0.05, 0.55, 0.9, 0.08)), orientation="horizontal")
-    bar.set_label("shear angle (deg) of (a), (b) and (c)", fontsize=11)
-    key.text(
-        0.5, 0.3, "over the flat blank,\nafter forming into the hemisphere",
-        ha="center", va="center", fontsize=11, transform=key.transAxes,
-    )  # fmt: skip
-    save(fig, out_dir / f"{NAME}-shear.png", dpi=110)
-    plt.close(fig)
-    figures.append(
-        Figure(
-            f"{NAME}-shear.png",
-            "The shear angle over the flat blank after forming into the hemisphere: the "
-            "fibrous shell, the Mindlin shell and the pin-jointed net draped on the same "
-            "sphere (Mack and Taylor), on one colour scale. Inside the die the shells should "
-            "show the net's pattern, largest along the diagonals, and its magnitudes.",
-        )
-    )
-
-    # 9 in at 110 dpi (990 px), its 10-pt text read as 9 pt on an 800-px screen.
-    fig, axes = plt.subplots(1, 2, figsize=(9.0, 4.9), layout="constrained")
-    for ax, kinematics in zip(axes, ("fibrous", "mindlin")):
-        x = data.runs[kinematics].positions[: mesh.n_nodes]  # less the holder's node
-        step = max(1, data.cells // 16)
-        grid = x.reshape(data.cells + 1, data.cells + 1, 3)
-        # each family's fibres as one line broken by NaN (not a hundred artists to lay out)
-        for fibres, colour in ((grid[::step], "C0"), (grid[:, ::step].transpose(1, 0, 2), "C3")):
-            broken = np.concatenate([fibres[..., :2], np.full((len(fibres), 1, 2), np.nan)], 1)
-            ax.plot(*broken.reshape(-1, 2).T, "-", color=colour, lw=0.8)
-        ax.plot(
-            [-HALF, HALF, HALF, -HALF, -HALF], [-HALF, -HALF, HALF, HALF, -HALF], ":", color="0.5"
-        )
-        circle = np.linspace(0, 2 * np.pi, 200)
-        ax.plot(DIE * np.cos(circle), DIE * np.sin(circle), "--", color="0.3", lw=0.8)
-        ax.set_title(f"{kinematics}: warp (blue) and weft (red) from above", fontsize=10)
-        ax.set_aspect("equal")
-        ax.set_xlabel("x (mm)")
-    axes[0].set_ylabel("y (mm)")
-    save(fig, out_dir / f"{NAME}-fibres.png", dpi=110)
-    plt.close(fig)
-    figures.append(
-        Figure(
-            f"{NAME}-fibres.png",
-            "The formed blank seen from above: warp (blue) and weft (red) fibres of the "
-            "fibrous (left) and the Mindlin (right) shell, the blank's outline (dotted) and "
-            "the die's edge (dashed). Look at the draw-in of the edges and the wrinkles on "
-            "the flange.",
-        )
-    )
-
-    with figure(out_dir / f"{NAME}-force.png", "punch travel (mm)", "punch force (N)") as ax:
-        for kinematics, result in data.runs.items():
-            stroke = DURATION / data.time_scaling.get(kinematics, 1.0)
-            travel = [TRAVEL * float(smooth_step(f.time / stroke)) for f in result.frames]
-            force = [f.tool_forces[1, 2] if len(f.tool_forces) > 1 else 0.0 for f in result.frames]
-            ax.plot(travel, force, "o-", ms=3, label=kinematics)
-    figures.append(
-        Figure(
-            f"{NAME}-force.png",
-            "The punch force against its travel for the fibrous and the Mindlin shell. Both "
-            "rise as the blank is drawn into the die; compare their levels and where they "
-            "start to climb.",
-        )
-    )
-    for kinematics, result in data.runs.items():
-        result.write(out_dir / f"{NAME}-{kinematics}.pvd")
-    return figures
-
-
 CASE = Case(
     name=NAME,
     title=TITLE,
@@ -790,4 +726,6 @@ CASE = Case(
     order=110,
     compute=compute,
     render=render,
+    parts=parts,
+    combine=combine,
 )

@@ -65,7 +65,9 @@ tests/test_hemisphere_plies.py reads: 116 s of CPU for the case, the runs 59 and
 checks passing, load 3.2-4.7; the [0/45] run alone 89.6 s before); the finer mesh (10 cells,
 the fine report: its four runs below) and the second holder force (40 N, the holder's
 sensitivity) are the study's (validation/studies/hemisphere_plies.py), with what they gave
-and what led to the settings.
+and what led to the settings. The runs are the case's independent parts (``parts``, gathered
+by ``combine``): with several jobs the report runs each as a task of its own
+(validation/report.py), with the same results as one after another.
 Measured now (8 cells, 20 N, the holder on both plies, the fade's SIDEWAYS = 1; ``python -m
 validation --cases hemisphere-plies --jobs 1``, one thread, load 3.8-5.6, compiling afresh:
 the first run's CPU holds the kernels' compilation; per ply, ply 1 / ply 2, the rms of shear -
@@ -155,11 +157,21 @@ facing an edge or a vertex, docs/hemisphere_plies.md) at 1.7-3.0 ms a step, one 
 
 from __future__ import annotations
 
-from validation.records import Case, Outcome
-from validation.studies.hemisphere_plies_run import NAME, SOURCE, TITLE, compute_plan, render
+from collections.abc import Callable
+from typing import Any
+
+from validation.records import Case, Outcome, compute_parts
+from validation.studies.hemisphere_plies_run import (
+    NAME,
+    SOURCE,
+    TITLE,
+    combine_plan,
+    plan_parts,
+    render,
+)
 from validation.studies.hemisphere_plies_setup import HOLDER_FORCES, LAYUPS
 
-__all__ = ["CASE", "CELLS", "EVERY", "RUNS", "compute", "plan"]
+__all__ = ["CASE", "CELLS", "EVERY", "RUNS", "combine", "compute", "parts", "plan"]
 
 # fibre segments across the blank per resolution: the study's coarse mesh but at "fine"
 # (its runs at 10 cells cost 63-185 s of CPU each, every check passing: the docstring)
@@ -181,9 +193,21 @@ def plan(resolution: str) -> list[tuple[int, str, str, float]]:
     ]
 
 
+def parts(resolution: str) -> dict[str, Callable[[], tuple]]:
+    """The runs of ``plan(resolution)``, each an independent part of the case (the report
+    runs them at once with several jobs): hemisphere_plies_run.plan_parts."""
+    return plan_parts(plan(resolution))
+
+
+def combine(resolution: str, made: dict[str, Any]) -> Outcome:
+    """The runs of ``plan(resolution)``, ``made`` by ``parts``, with their checks
+    (hemisphere_plies_run.combine_plan)."""
+    return combine_plan(plan(resolution), made)
+
+
 def compute(resolution: str) -> Outcome:
-    """The runs of ``plan(resolution)`` with their checks (hemisphere_plies_run.run)."""
-    return compute_plan(plan(resolution))
+    """The runs of ``plan(resolution)`` one after another, with their checks."""
+    return compute_parts(parts, combine, resolution)
 
 
 CASE = Case(
@@ -195,4 +219,6 @@ CASE = Case(
     order=115,
     compute=compute,
     render=render,
+    parts=parts,
+    combine=combine,
 )

@@ -4,7 +4,8 @@ validation/cases/hemisphere_plies.py, runs its plan through ``compute_plan``): t
 under the punch and the holder, each ply's shear against the pin-jointed net of its own
 orientation, the draw-in, the wrinkles, the inter-ply slip, the holder's force and travel and
 the run's kinetic energy over its work, with the checks of a run (``run``); a plan of runs
-gathered into the report's record (``compute_plan``) and their figures (``render``).
+gathered into the report's record (``compute_plan``; or run as the case's independent parts,
+``plan_parts``, and gathered by ``combine_plan``) and their figures (``render``).
 """
 
 from __future__ import annotations
@@ -12,7 +13,9 @@ from __future__ import annotations
 import math
 import tempfile
 import time
+from collections.abc import Callable
 from dataclasses import dataclass, replace
+from functools import partial
 from pathlib import Path
 from typing import Any
 
@@ -64,7 +67,10 @@ __all__ = [
     "SOURCE",
     "TITLE",
     "PliesData",
+    "combine_plan",
     "compute_plan",
+    "part_key",
+    "plan_parts",
     "holder_force_last_tenth",
     "holder_inertia_last_tenth",
     "nets",
@@ -457,13 +463,33 @@ def run(
     return parameters, checks, layup, result, shear[key], net_shear[key], in_die[key]
 
 
+def part_key(entry: tuple[int, str, str, float]) -> str:
+    """The key of a plan's run (cells, layup name, kinematics, holder force in N) as a part
+    of the report's case: "<cells> cells <layup> <kinematics> <force> N"."""
+    cells, name, kinematics, force = entry
+    return f"{cells} cells {run_key(name, kinematics, force)}"
+
+
+def plan_parts(plan: list[tuple[int, str, str, float]]) -> dict[str, Callable[[], tuple]]:
+    """Each run of ``plan`` as an independent part of the report's case (``Case.parts``):
+    by ``part_key``, a function of no argument that makes it (``run``, its nets made there)."""
+    return {part_key(entry): partial(run, *entry) for entry in plan}
+
+
 def compute_plan(plan: list[tuple[int, str, str, float]]) -> Outcome:
-    """The runs of ``plan``, each (cells, layup name, kinematics, holder force in N), gathered
-    into the report's record: their parameters (each run's prefixed by its key, and its cells
-    when the plan holds several meshes), their checks and their data for ``render`` (the
-    figures draw the finest mesh's runs)."""
-    every = sorted({cells for cells, *_ in plan})
+    """The runs of ``plan``, each (cells, layup name, kinematics, holder force in N), run
+    here one after another and gathered into the report's record (``combine_plan``)."""
     spheres = nets()
+    return combine_plan(plan, {part_key(entry): run(*entry, spheres) for entry in plan})
+
+
+def combine_plan(plan: list[tuple[int, str, str, float]], made: dict[str, tuple]) -> Outcome:
+    """The runs of ``plan``, each (cells, layup name, kinematics, holder force in N), ``made``
+    (``run``'s tuples by ``part_key``, wherever they ran), gathered into the report's record:
+    their parameters (each run's prefixed by its key, and its cells when the plan holds
+    several meshes), their checks and their data for ``render`` (the figures draw the finest
+    mesh's runs)."""
+    every = sorted({cells for cells, *_ in plan})
     layups, runs, shear, net_shear, in_die = {}, {}, {}, {}, {}
     converged: list[bool] = []
     wall: list[float] = []
@@ -489,7 +515,7 @@ def compute_plan(plan: list[tuple[int, str, str, float]]) -> Outcome:
     checks = []
     drawn = every[-1]
     for cells, name, kinematics, force in plan:
-        found, passed, layup, result, *fields = run(cells, name, kinematics, force, spheres)
+        found, passed, layup, result, *fields = made[part_key((cells, name, kinematics, force))]
         prefix = "" if len(every) == 1 else f"{cells}_cells_"
         parameters.update({prefix + k: v for k, v in found.items()})
         checks += [

@@ -6,6 +6,7 @@ validation/studies/hemisphere_plies.py, documents the choices and what they gave
 from __future__ import annotations
 
 import math
+from functools import partial
 
 import numpy as np
 
@@ -118,13 +119,17 @@ def mindlin_ply(rotary_scaling: bool | str = True):
     """A Mindlin ply's element factory (fabric, warp) -> MindlinShell, as
     ``elements.layup.ply_element``'s, with the rotary inertia ``rotary_scaling``
     (docs/theory.md §6.2 B2: True the closed form, "element" that held to the membrane's
-    step)."""
+    step). A partial of a module's function, not a closure: the layup that keeps it is
+    pickled when the report runs the case's runs in worker processes."""
+    return partial(_mindlin_ply, rotary_scaling=rotary_scaling)
 
-    def ply(fabric: Fabric, warp: np.ndarray) -> MindlinShell:
-        section = ElasticShell.equivalent(fabric, warp=warp)
-        return MindlinShell(section, rotary_scaling=rotary_scaling)
 
-    return ply
+def _mindlin_ply(
+    fabric: Fabric, warp: np.ndarray, rotary_scaling: bool | str = True
+) -> MindlinShell:
+    """A Mindlin ply of ``fabric`` with its warp along ``warp`` (``mindlin_ply``)."""
+    section = ElasticShell.equivalent(fabric, warp=warp)
+    return MindlinShell(section, rotary_scaling=rotary_scaling)
 
 
 def _holder_amplitude(tau):

@@ -1,0 +1,140 @@
+"""A case made of independent parts (``Case.parts``, ``Case.combine``): with several jobs the
+report runs each part as a task of its own and combines them in its own process; its entry of
+results.json is the same as when the parts run one after another in one process, but for the
+times."""
+
+import json
+
+import numpy as np
+import parts_case
+import pytest
+
+import validation.report as report_module
+from validation.cases import CASES
+from validation.records import Case, Outcome
+
+QUIET = {"echo": lambda *args, **kwargs: None}
+TIMES = ("case_time_s", "case_cpu_s", "parts", "wall_time_s")  # measured: never the same twice
+
+
+# a case's parameters that hold its runs' measured times (hemisphere-forming's "fibrous:
+# runtime", hemisphere-plies' "..._wall_time_s" and "..._cpu_time_s")
+TIMED = ("runtime", "wall_time", "cpu_time")
+
+
+def entry(folder, name: str) -> dict:
+    """The case's entry of the report in ``folder``, without its times."""
+    record = json.loads((folder / "results.json").read_text())["cases"][name]
+    untimed = {key: value for key, value in record.items() if key not in TIMES}
+    untimed["parameters"] = {
+        key: value
+        for key, value in record["parameters"].items()
+        if not any(word in key for word in TIMED)
+    }
+    return untimed
+
+
+def test_a_case_in_parts_gives_the_same_entry_split_and_in_one_process(tmp_path, monkeypatch):
+    # and a part that raises fails its case with its error, both ways
+    monkeypatch.setitem(CASES, "cheap-parts", parts_case.CASE)
+    monkeypatch.setitem(CASES, "cheap-parts-broken", parts_case.BROKEN)
+    names = ["cheap-parts", "cheap-parts-broken"]
+    keys = list(parts_case.parts("coarse"))
+    split = report_module.run_cases(names, "coarse", tmp_path / "split", jobs=2, **QUIET)
+    alone = report_module.run_cases(names, "coarse", tmp_path / "alone", jobs=1, **QUIET)
+    for name in names:
+        assert entry(tmp_path / "split", name) == entry(tmp_path / "alone", name)
+    # the parts combined in their own order (not the order they came back in), every bit
+    assert split.cases["cheap-parts"].outcome.parameters["keys"] == keys
+    assert split.cases["cheap-parts"].passed == 1
+    for folder in ("split", "alone"):
+        assert np.array_equal(
+            np.loadtxt(tmp_path / folder / "cheap-parts.txt"), parts_case.compute("coarse").data
+        )
+    # each part timed; the case's CPU time the parts' and the combining step's
+    for report, folder in ((split, "split"), (alone, "alone")):
+        result = report.cases["cheap-parts"]
+        assert list(result.parts) == keys
+        assert result.case_cpu_s >= sum(cpu for _, cpu in result.parts.values())
+        assert result.case_time_s >= sum(wall for wall, _ in result.parts.values())
+        written = json.loads((tmp_path / folder / "results.json").read_text())
+        assert list(written["cases"]["cheap-parts"]["parts"]) == keys
+        failed = report.cases["cheap-parts-broken"].outcome
+        assert failed.error == "ValueError: a part that fails, on purpose"
+        assert failed.checks == []
+
+
+def test_the_tasks_are_the_parts_longest_first_by_the_last_report_s_part_times(tmp_path):
+    names = ["bai-5.1", "hemisphere-plies", "mindlin-plate"]
+    keys = list(CASES["hemisphere-plies"].parts("default"))
+    assert len(keys) == 4  # both layups, both kinematics
+    # a first report: the case's expected cost shared evenly among its parts
+    tasks = report_module.schedule_tasks(names, "default")
+    share = report_module.expected_cost("hemisphere-plies", "default") / 4
+    costs = {("hemisphere-plies", key): share for key in keys}
+    costs |= {(n, None): report_module.expected_cost(n, "default") for n in names[::2]}
+    assert sorted(tasks) == sorted(costs)
+    assert [costs[task] for task in tasks] == sorted(costs.values(), reverse=True)
+    assert tasks[:4] == [("hemisphere-plies", key) for key in keys]  # 12 s each, bai-5.1 4.6
+    # the next: the part times the last report measured, read from its results.json
+    last = dict(zip(keys, (3.0, 30.0, 1.0, 8.0)))
+    content = {
+        "resolution": "default",
+        "cases": {
+            "bai-5.1": {"case_time_s": 5.0},
+            "mindlin-plate": {"case_time_s": 0.5},
+            "hemisphere-plies": {
+                "case_time_s": 43.0,
+                "parts": {key: {"time_s": t, "cpu_s": t} for key, t in last.items()},
+            },
+        },
+    }
+    (tmp_path / "results.json").write_text(json.dumps(content))
+    measured = report_module.measured_costs(tmp_path, names, "default")
+    parts = report_module.measured_part_costs(tmp_path, names, "default")
+    assert parts == {"hemisphere-plies": last}
+    assert report_module.measured_part_costs(tmp_path, names, "coarse") == {}
+    assert report_module.schedule_tasks(names, "default", measured, parts) == [
+        ("hemisphere-plies", keys[1]),
+        ("hemisphere-plies", keys[3]),
+        ("bai-5.1", None),
+        ("hemisphere-plies", keys[0]),
+        ("hemisphere-plies", keys[2]),
+        ("mindlin-plate", None),
+    ]
+
+
+def test_parts_come_with_the_step_that_combines_them():
+    with pytest.raises(ValueError, match="parts and combine are given together"):
+        Case("x", "t", "s", "d", "verification", 1, lambda r: Outcome.failed("no"),
+             lambda d, o: [], parts=parts_case.parts)  # fmt: skip
+
+
+@pytest.mark.slow  # the two coarse forming runs twice: about 40 s of CPU, 2 workers
+def test_hemisphere_forming_gives_the_same_entry_split_and_in_one_process(tmp_path):
+    name = "hemisphere-forming"
+    assert list(CASES[name].parts("coarse")) == ["fibrous", "mindlin"]
+    reports = {
+        jobs: report_module.run_cases([name], "coarse", tmp_path / str(jobs), jobs=jobs, **QUIET)
+        for jobs in (2, 1)
+    }
+    assert entry(tmp_path / "2", name) == entry(tmp_path / "1", name)
+    assert reports[2].cases[name].outcome.error is None
+    assert set(reports[2].cases[name].parts) == {"fibrous", "mindlin"}
+
+
+def test_the_two_ply_layups_pickle_for_the_report_s_workers():
+    # hemisphere-plies' parts send their layups back from the workers: a Mindlin layup kept
+    # its element factory as a closure ("Can't pickle local object 'mindlin_ply.<locals>.ply'",
+    # the case failed at the default resolution with two jobs)
+    import pickle
+
+    from validation.studies.hemisphere_plies_setup import LAYUPS, model
+
+    for kinematics in ("fibrous", "mindlin"):
+        layup, _ = model(8, LAYUPS["0/90"], kinematics, 20.0)
+        again = pickle.loads(pickle.dumps(layup))
+        assert np.array_equal(again.mesh.points, layup.mesh.points)
+        assert [list(cells) for cells in again.ply_cells] == [
+            list(cells) for cells in layup.ply_cells
+        ]
