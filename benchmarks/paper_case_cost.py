@@ -27,6 +27,14 @@ assembler's structure in scipy's index type (femcore/assembly.py), and the sensi
 variants writing no frame series into the folders it throws away (fibreshell/run.py
 ``write_frames``). Before the assembler's change (load 9.2-9.8): 43.13 -> 41.00 s (0.951),
 the sensitivity case 4.42 -> 3.44.
+
+The nine static cases (``--cases`` with the three ply stacks; main 3228ca0 from git archive
+beside the tree with ||K_ff||_inf summed in the split's pass, best of 2 alternating turns,
+one thread, load 6.6-11.4; case CPU s): bai-5.1 6.47 -> 6.35, bai-6.1.1 9.57 -> 9.98,
+bai-6.1.2 7.36 -> 7.45, bai-6.2.1 8.43 -> 8.30, bai-6.2.2 7.16 -> 7.13,
+bai-6.1.1-sensitivity 3.75 -> 3.67, plies-bai-5.1 12.49 -> 12.74, plies-deck-of-cards 7.52
+-> 7.42, plies-heavy-cantilever 2.94 -> 2.99: 65.69 -> 66.04 s (1.005, within the load's
+spread); every results.json number the same bits (5496 of them).
 """
 
 from __future__ import annotations

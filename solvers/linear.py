@@ -207,15 +207,16 @@ class LinearSolver:
         k = k_ff if isinstance(k_ff, sp.csc_matrix) else sp.csc_matrix(k_ff)
         plan = self._plan_for(k)
         scale = float(np.abs(k.data).max(initial=0.0))
+        norm = None  # ||K_ff||_inf, made by the split's pass where K_ff has a plan
         if plan is None:
             asymmetry = float(np.abs((k - k.T).data).max(initial=0.0))
             upper = _upper(0.5 * (k + k.T))
         else:
-            asymmetry, upper = plan.split(k.data)
+            asymmetry, upper, norm = plan.split_and_norm(k.data)
         ldl, negative = self._ldlt(upper)
         symmetric = scale > 0.0 and asymmetry <= SYMMETRY_TOLERANCE * scale
         if ldl is not None and symmetric:
-            return Factorisation(k, negative, "ldlt", _ldl=ldl)
+            return Factorisation(k, negative, "ldlt", _ldl=ldl, _norm=norm)
         if asymmetry > NON_CONSERVATIVE * scale:
             # Friction in slip: the symmetric part of a stable frictional tangent is often
             # indefinite (the slip does not follow a potential), so its pivots say nothing
@@ -422,6 +423,9 @@ class _UpperPlan:
     columns: np.ndarray
     diagonal: np.ndarray
     shape: tuple[int, int]
+    # K's own pattern (int64), whose rows the split's pass sums for ||K||_inf
+    matrix_indptr: np.ndarray
+    matrix_indices: np.ndarray
 
     @classmethod
     def of(cls, k: sp.csc_matrix) -> _UpperPlan | None:
@@ -433,16 +437,18 @@ class _UpperPlan:
         n = k.shape[0]
         if not k.has_sorted_indices or k.nnz == 0:
             return None
-        found = _upper_plan_compiled(
-            np.asarray(k.indptr, dtype=np.int64), np.asarray(k.indices, dtype=np.int64), n
-        )
+        matrix_indptr = np.array(k.indptr, dtype=np.int64)
+        matrix_indices = np.array(k.indices, dtype=np.int64)
+        found = _upper_plan_compiled(matrix_indptr, matrix_indices, n)
         has_plan, transposed, upper, indptr, kept_rows, kept_columns = found
         if not has_plan:
             return None
         kept_rows = kept_rows.astype(k.indices.dtype)
+        diagonal = kept_rows == kept_columns
         return cls(
-            transposed, upper, indptr, kept_rows, kept_columns, kept_rows == kept_columns, (n, n)
-        )
+            transposed, upper, indptr, kept_rows, kept_columns, diagonal, (n, n),
+            matrix_indptr, matrix_indices,
+        )  # fmt: skip
 
     @classmethod
     def of_numpy(cls, k: sp.csc_matrix) -> _UpperPlan | None:
@@ -471,7 +477,10 @@ class _UpperPlan:
         indptr = np.concatenate([[0], np.cumsum(np.bincount(columns[upper], minlength=n))])
         kept_rows, kept_columns = rows[upper].copy(), columns[upper]
         diagonal = kept_rows == kept_columns
-        return cls(transposed, upper, indptr, kept_rows, kept_columns, diagonal, (n, n))
+        return cls(
+            transposed, upper, indptr, kept_rows, kept_columns, diagonal, (n, n),
+            np.array(k.indptr, dtype=np.int64), np.array(k.indices, dtype=np.int64),
+        )  # fmt: skip
 
     def split(self, data: np.ndarray) -> tuple[float, sp.csc_matrix]:
         """(max |K - K^T|, the upper triangle of (K + K^T) / 2) of K's CSC ``data``, without
@@ -481,13 +490,21 @@ class _UpperPlan:
         which then fills far less (10 times less on a flat 3200-triangle fibrous sheet).
         One compiled pass (``_split_upper``; 5 ms of numpy gathers and masks on the 40-cell
         fibrous corner of benchmarks/paper_cases.py), ``split_numpy`` without numba."""
+        return self.split_and_norm(data)[:2]
+
+    def split_and_norm(self, data: np.ndarray) -> tuple[float, sp.csc_matrix, float]:
+        """``split`` and ||K||_inf (the largest sum of |entries| of a row; nan if an entry
+        is) of K's CSC ``data`` in the same pass (``_split_upper`` sums each column's entries
+        into their rows before splitting it, in ``_row_sums_largest``'s order: the same bits
+        as ``_infinity_norm``), where a pass of its own read K again for each accuracy check's
+        factorisation; ``split_numpy_and_norm`` without numba."""
         if _split_upper_compiled is None:  # pragma: no cover - numba is a dependency
-            return self.split_numpy(data)
+            return self.split_numpy_and_norm(data)
         n = self.shape[0]
         values = np.empty(self.upper.size)
         indices = np.empty(self.upper.size, dtype=self.indices.dtype)
         indptr = np.empty(n + 1, dtype=self.indptr.dtype)
-        asymmetry, kept = _split_upper_compiled(
+        asymmetry, kept, norm = _split_upper_compiled(
             np.ascontiguousarray(data, dtype=float),
             self.transposed,
             self.upper,
@@ -497,10 +514,12 @@ class _UpperPlan:
             values,
             indices,
             indptr,
+            self.matrix_indptr,
+            self.matrix_indices,
         )
         upper = sp.csc_matrix((values[:kept], indices[:kept], indptr), shape=self.shape)
         upper.has_sorted_indices = True
-        return float(asymmetry), upper
+        return float(asymmetry), upper, float(norm)
 
     def split_numpy(self, data: np.ndarray) -> tuple[float, sp.csc_matrix]:
         """``split`` by numpy's gathers and masks (the reference of the compiled pass)."""
@@ -518,6 +537,13 @@ class _UpperPlan:
         upper.has_sorted_indices = True
         return asymmetry, upper
 
+    def split_numpy_and_norm(self, data: np.ndarray) -> tuple[float, sp.csc_matrix, float]:
+        """``split_and_norm`` by numpy and scipy (the reference of the compiled pass)."""
+        asymmetry, upper = self.split_numpy(data)
+        k = sp.csc_matrix((data, self.matrix_indices, self.matrix_indptr), shape=self.shape)
+        norm = float(np.abs(k).sum(axis=1).max()) if self.shape[0] else 0.0
+        return asymmetry, upper, norm
+
 
 def _split_upper(
     data: np.ndarray,
@@ -529,18 +555,27 @@ def _split_upper(
     values: np.ndarray,
     indices: np.ndarray,
     indptr: np.ndarray,
-) -> tuple[float, int]:
-    """``_UpperPlan.split`` in one pass over the upper triangle: (max |K - K^T| (nan if any
-    entry is), the count of the kept entries), the kept entries' values (data[e] +
-    data[mirror]) x 0.5 (numpy's operations, the same bits), rows and column pointers
-    written into ``values``, ``indices`` and ``indptr``. An entry below the diagonal and its
-    mirror have the same |difference| (a - b = -(b - a) exactly), so the upper triangle's
-    entries give the whole matrix's largest. Compiled by numba (serial)."""
+    matrix_indptr: np.ndarray,
+    matrix_indices: np.ndarray,
+) -> tuple[float, int, float]:
+    """``_UpperPlan.split_and_norm`` in one pass over K's columns: (max |K - K^T| (nan if
+    any entry is), the count of the kept entries, ||K||_inf), the kept entries' values
+    (data[e] + data[mirror]) x 0.5 (numpy's operations, the same bits), rows and column
+    pointers written into ``values``, ``indices`` and ``indptr``. An entry below the diagonal
+    and its mirror have the same |difference| (a - b = -(b - a) exactly), so the upper
+    triangle's entries give the whole matrix's largest. ||K||_inf: each column's entries
+    (K's pattern ``matrix_indptr``, ``matrix_indices``) summed into their rows as
+    ``_row_sums_largest`` sums them (the same bits), while the column is in the cache.
+    Compiled by numba (serial)."""
+    n = upper_indptr.size - 1
+    sums = np.zeros(n)
     asymmetry = 0.0
     undefined = False
     kept = 0
     indptr[0] = 0
-    for column in range(upper_indptr.size - 1):
+    for column in range(n):
+        for e in range(matrix_indptr[column], matrix_indptr[column + 1]):
+            sums[matrix_indices[e]] += abs(data[e])
         for u in range(upper_indptr[column], upper_indptr[column + 1]):
             e = upper[u]
             here, mirror = data[e], data[transposed[e]]
@@ -555,7 +590,7 @@ def _split_upper(
                 indices[kept] = upper_rows[u]
                 kept += 1
         indptr[column + 1] = kept
-    return (np.nan if undefined else asymmetry), kept
+    return (np.nan if undefined else asymmetry), kept, _largest(sums)
 
 
 def _upper_plan(indptr: np.ndarray, indices: np.ndarray, n: int):
@@ -629,8 +664,13 @@ def _row_sums_largest(indptr: np.ndarray, indices: np.ndarray, data: np.ndarray,
     for j in range(n):
         for e in range(indptr[j], indptr[j + 1]):
             sums[indices[e]] += abs(data[e])
-    largest = sums[0] if n else 0.0
-    for i in range(1, n):
+    return _largest(sums)
+
+
+def _largest(sums: np.ndarray) -> float:
+    """The largest of ``sums`` (n,) (0 for none), nan if one is. Compiled by numba."""
+    largest = sums[0] if sums.size else 0.0
+    for i in range(1, sums.size):
         value = sums[i]
         if value > largest or value != value:
             largest = value
@@ -641,6 +681,7 @@ def _row_sums_largest(indptr: np.ndarray, indices: np.ndarray, data: np.ndarray,
 
 _row_sums_largest_compiled: Any = None
 if kernel_cache.AVAILABLE:
+    _largest = kernel_cache.njit(_largest)  # the compiled passes' helper, called by them
     _row_sums_largest_compiled = kernel_cache.njit(_row_sums_largest)
 
 

@@ -519,3 +519,40 @@ def test_the_band_refuses_values_not_one_per_entry_of_its_pattern(change):
     values = np.resize(upper.data, upper.data.size + change)
     with pytest.raises(ValueError, match="one per entry of the plan's pattern"):
         BandPlan(upper).factorise(values)
+
+
+def test_the_splits_infinity_norm_is_the_compiled_norms_and_scipys_to_the_bit():
+    # The factorisation takes ||K||_inf from the pass that splits K's upper triangle: the
+    # same bits as _infinity_norm's pass of its own and as scipy's (its reference, by
+    # split_numpy_and_norm), on entries of magnitudes 1e-8..1e8 (a sum in another order
+    # would differ in its last bits), with stored zeros and a nan.
+    from solvers.linear import _infinity_norm, _UpperPlan
+
+    rng = np.random.default_rng(5)
+    matrices = []
+    for size, density in ((1, 1.0), (7, 0.5), (200, 0.05), (900, 0.01)):
+        a = sp.random(size, size, density=density, random_state=size, format="csc")
+        a = (a + a.T + sp.identity(size)).tocsc()
+        a.sort_indices()
+        a.data = rng.choice([-1.0, 1.0], a.nnz) * 10.0 ** rng.uniform(-8, 8, a.nnz)
+        matrices.append(a)
+    zeros = matrices[2].copy()
+    zeros.data[::5] = 0.0
+    undefined = matrices[3].copy()
+    undefined.data[17] = np.nan
+    matrices += [zeros, undefined, strip_matrix(length=8).tocsc()]
+    for k in matrices:
+        plan = _UpperPlan.of(k)
+        assert plan is not None
+        asymmetry, upper, norm = plan.split_and_norm(k.data)
+        expected_asymmetry, expected_upper, expected = plan.split_numpy_and_norm(k.data)
+        for found, reference in ((norm, expected), (norm, _infinity_norm(k))):
+            assert np.isnan(found) == np.isnan(reference)
+            if not np.isnan(reference):
+                assert np.float64(found).view(np.int64) == np.float64(reference).view(np.int64)
+        assert np.array_equal(asymmetry, expected_asymmetry, equal_nan=True)
+        assert np.array_equal(upper.indptr, expected_upper.indptr)
+        assert np.array_equal(upper.data, expected_upper.data, equal_nan=True)
+    factor = LinearSolver().factorise(matrices[-1])
+    assert factor._norm is not None  # made by the split, not by a pass of its own
+    assert factor.norm == _infinity_norm(matrices[-1])
