@@ -35,8 +35,9 @@ Measured (this script, best of 2-3, one thread, nice 5):
   81b7828, load 2.8-5.7: 1.844 against 1.981 ms a step (0.931), again at load 4.6-6.4
   1.913 against 1.996 (0.958), the state at step 2500 identical to the bit (positions,
   directors, velocities); the sides alone 2.109 against 2.154 (0.979, one round, load
-  4.5-6.1); Mindlin [0/90], steps 3400-5000, load 3.1-5.7: 2.028 against 2.098 (0.967),
-  the state at step 5000 identical to the bit;
+  4.5-6.1); the window of steps 3400-5000 asked for Mindlin [0/90], load 3.1-5.7: 2.028
+  against 2.098 (0.967), the state at step 5000 identical to the bit (the window's child
+  then ran the fibrous plies whatever --kinematics said: it is given them since);
 * the whole case (``python -m validation --cases hemisphere-plies --jobs 1`` from each tree,
   one after the other, both warm, load 6-7): 80.4 s of CPU (main) against 81.3 s, its four
   runs 11.88 / 21.16 / 14.95 / 25.70 against 11.58 / 21.86 / 15.59 / 25.47 s: the 4-7 %

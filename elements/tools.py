@@ -140,8 +140,8 @@ class RigidTool(ReadOnlyState):
     @property
     def moves(self) -> bool:
         """Whether the tool has a motion."""
-        # asked at every step by the contacts: kept for the motion's value (a restored copy or
-        # a new array may be written in place)
+        # asked at every step by the contacts: kept for the motion's value (a new array may
+        # be given; the motion itself is read-only, restored copies too)
         kept = self.__dict__.get("_moves")
         motion = self.motion.tobytes()
         if kept is None or kept[0] != motion:

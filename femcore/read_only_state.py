@@ -3,12 +3,13 @@
 Below pickle protocol 5 (the default protocol, 4, which process pools use) numpy pickles an
 array's data and shape but not its ``writeable`` flag, and a deep copy of an array is
 writeable: the copy of a read-only array takes an edit in place. (Protocol 5, which checkpoints
-use, solvers/output.py, keeps the flag.) A block keeps some arrays read-only on purpose: arrays
-it hands out and keeps for later calls (the fibrous bending patch's nodes, slots and fold,
-elements/fibrous/bending.py; the ply contact's faces, directions and facing,
-elements/ply_block.py; a mesh's points and cells, a topology's tables, a tool's motion), where
-a caller's edit in place would corrupt every later answer, and whose flag is part of the
-compiled kernels' argument types (elements/kernel_inputs.py).
+use, solvers/output.py, keeps the flag of a contiguous array only: a non-contiguous read-only
+array comes back writeable there too, and the list below covers it.) A block keeps some arrays
+read-only on purpose: arrays it hands out and keeps for later calls (the fibrous bending
+patch's nodes, slots and fold, elements/fibrous/bending.py; the ply contact's faces, directions
+and facing, elements/ply_block.py; a mesh's points and cells, a topology's tables, a tool's
+motion), where a caller's edit in place would corrupt every later answer, and whose flag is
+part of the compiled kernels' argument types (elements/kernel_inputs.py).
 
 ``ReadOnlyState`` pickles, beside the object's attributes, the list of the read-only arrays
 found among them (inside tuples, lists, dicts and dataclasses): pickle stores each object once

@@ -114,6 +114,13 @@ def case_settings(name: str, kinematics: str, share: float = 1.0, **options: Any
     STROKE_SLOWING), DAMPING, no progress line, a frame every hundredth of that time;
     ``options`` CentralDifference's others, or these replaced (``output_interval=None``: its
     default, 20 frames). A benchmark that runs another tree's code hands them over."""
+    if name not in LAYUPS or kinematics not in ("fibrous", "mindlin"):
+        raise ValueError(
+            f"no run of layup {name!r} with {kinematics!r} plies in the case: expected a layup "
+            f"of {sorted(LAYUPS)} and kinematics 'fibrous' or 'mindlin'"
+        )
+    if not 0.0 < share <= 1.0:
+        raise ValueError(f"share is the part of the stroke run, in (0, 1], got {share!r}")
     duration = share * _duration(name, kinematics)
     settings = {
         "duration": duration,
