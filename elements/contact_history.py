@@ -138,13 +138,18 @@ def start_anchors(
     now in the tool's frame, mm, theta = g / (g + p): g its gap to the contact surface of
     ``block`` at x_0, p its ``penetration`` (s,) now, mm, for the ``touching`` (s,) bool
     nodes; docs/theory.md §9.2), so only its tangential motion since then is slip; without
-    ``where`` (or a node not touching) its approach itself. NaN where there is neither (a
-    history without ``approach``)."""
+    ``where`` or ``block`` (or for a node not touching) its approach itself. NaN where there
+    is neither (a history without ``approach``)."""
     approach = getattr(history, "approach", None)  # (absent from an older pickle)
     if approach is None:
         return history.anchor
     anchors = np.where(np.isfinite(history.anchor), history.anchor, approach)
-    if where is not None and penetration is not None and touching is not None:
+    if (
+        where is not None
+        and penetration is not None
+        and touching is not None
+        and (block is not None)
+    ):
         rows, _, theta = _landing_rows(block, history, penetration, touching)
         anchors[rows] += theta[:, None] * (where[rows] - approach[rows])
     return anchors
