@@ -123,3 +123,21 @@ def test_a_node_landing_from_beyond_a_meshed_tools_search_distance_slips_from_th
             assert tool.search_distance < 4.0  # the case's premise: beyond its search
         landed = block.update_history(at((2.4, 0.3, 0.45)), history)
         assert landed.slip[0] == pytest.approx(expected, abs=1e-12), type(tool).__name__
+
+
+def test_a_meshed_tools_exact_distance_is_the_height_over_a_flat_table_at_any_height():
+    """``exact_distance`` of the 20 x 20 mm table meshed 10 x 10 at points over its middle
+    from 0.1 to 100 mm up (its search distance some 3 mm) is their height (the closest point
+    is below them: to 1e-12 mm, rounding), its normal +z, and it keeps nothing: the tool's
+    ``distance`` asked afterwards for other points answers as a fresh tool's does."""
+    table = Mesh.rectangle(20.0, 20.0, nx=10, ny=10)
+    table = table.with_points(table.points - [10.0, 10.0, 0.0])
+    tool, fresh = RigidSurface(table), RigidSurface(table)
+    heights = np.geomspace(0.1, 100.0, 9)
+    points = np.column_stack([np.linspace(-5.0, 5.0, 9), np.linspace(4.0, -3.0, 9), heights])
+    d, n = tool.exact_distance(points)
+    np.testing.assert_allclose(d, heights, rtol=0.0, atol=1e-12)
+    np.testing.assert_allclose(n, np.tile([0.0, 0.0, 1.0], (9, 1)), atol=1e-12)
+    others = points[:4] * [1.0, 1.0, 0.01]
+    for a, b in zip(tool.distance(others), fresh.distance(others), strict=True):
+        np.testing.assert_array_equal(a, b)
