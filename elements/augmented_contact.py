@@ -141,7 +141,7 @@ class AugmentedContactBlock(ContactBlock):
             stick = (k * self.stick_ratio)[:, None]
             origin = self.tool.offset(state.load_factor)
             # (a new contact's anchor: where its way over the step touched the tool)
-            anchors = start_anchors(history, x - origin, p, touching)
+            anchors = start_anchors(history, x - origin, p, touching, self)
             stuck_at = anchors - history.traction / stick  # where the nodes stuck
             r = x - origin - stuck_at
             creep = r - np.sum(r * n, axis=1)[:, None] * n

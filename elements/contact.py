@@ -19,10 +19,10 @@ point of the tool it stuck to, carried with the tool. Its tangential offset from
 A node that was not touching when the last step was accepted has no anchor: in the step that
 brings it onto the tool it is anchored at the point of its way over the step where it touched
 the contact surface, a = x_0 + theta (x - x_0) with x_0 where it was then (the history's
-``approach``) and theta = g / (g + p) (its gap g then, its penetration p now: the gap taken
-linear over the step), so its tangential motion since it touched is slip like any other
-node's, and the way before it touched is not (frictionless in that step, a node a
-quasi-static increment brings on would end it without friction: docs/theory.md §9.2).
+``approach``) and theta = g / (g + p) (g its gap at x_0, the tool's exact distance computed
+when it lands, p its penetration now: the gap taken linear over the step), so its tangential
+motion since it touched is slip like any other node's, and the way before it touched is not
+(docs/theory.md §9.2).
 The anchors, each node's accumulated slip and the dissipation are the block's history
 (femcore.element), so a quasi-static increment returns to them at every iteration and the
 tangent is that of the return mapping (non-symmetric in slip: the solvers' LU takes it).
@@ -514,7 +514,7 @@ class ContactBlock(InteractionBlock):
             return zero, zero, none, none
         x, origin = self._positions(state), self.tool.offset(state.load_factor)
         # a landing node's anchor: where its way over the step touched the contact surface
-        anchors = start_anchors(history, x - origin, p, touching)
+        anchors = start_anchors(history, x - origin, p, touching, self)
         anchored = touching & np.isfinite(anchors[:, 0])
         anchor = np.where(anchored[:, None], anchors, 0.0)
         r = x - (anchor + origin)
@@ -681,13 +681,13 @@ class ContactBlock(InteractionBlock):
         if stuck.any() or sliding.any():
             assert history is not None
             origin = self.tool.offset(state.load_factor)
-            anchors = start_anchors(history, x - origin, p, touching)
+            anchors = start_anchors(history, x - origin, p, touching, self)
             anchor = np.where(np.isfinite(anchors), anchors, 0.0)
             r = x - (anchor + origin)
             normal_part = np.sum(n * r, axis=1)[:, None, None]
             curved_r = np.einsum("sij,sj->si", curvature, r)
             ds_dx = eye - nn - normal_part * curvature - n[:, :, None] * curved_r[:, None, :]
-            ds_dx = ds_dx + landing_terms(history, x - origin, p, touching, n)
+            ds_dx = ds_dx + landing_terms(self, history, x - origin, p, touching, n)
             length = np.linalg.norm(s, axis=1)
             unit = s / np.where(length > 0, length, 1.0)[:, None]
             # A frozen node pulled off the tool (p < 0) has the limit mu k max(p, 0) = 0.

@@ -16,7 +16,6 @@ __all__ = [
     "landing",
     "landing_terms",
     "start_anchors",
-    "touched_share",
 ]
 
 
@@ -56,10 +55,6 @@ class FrictionHistory:
         (``start_anchors``), so its tangential motion since it touched is friction's slip
         (elements/contact.py, "Friction"); None: not kept (the node is then frictionless for
         that step).
-    approach_gap : (s,) float or None
-        Each node without an anchor: its gap to the contact surface when the step was
-        accepted, d - h / 2, mm (NaN for an anchored node); None: not kept (the touching
-        point is then taken at the approach itself, as histories did before they kept it).
     """
 
     anchor: np.ndarray
@@ -73,41 +68,35 @@ class FrictionHistory:
     multiplier: np.ndarray | None = None
     traction: np.ndarray | None = None
     approach: np.ndarray | None = None
-    approach_gap: np.ndarray | None = None
 
 
-def _landing_rows(history: FrictionHistory, penetration: np.ndarray, touching: np.ndarray):
-    """(rows, g, theta): the ``touching`` (s,) bool nodes without an anchor whose gap is
-    kept, their gaps g at the last accepted step, mm, and theta = g / (g + p) (p =
-    ``penetration`` (s,) mm now, taken as 0 where it is not into the surface; theta 1 where
-    the node was and is on the surface, g = p = 0)."""
-    gap = getattr(history, "approach_gap", None)  # (absent from an older pickle)
-    if gap is None:
+def _landing_rows(
+    block: Any, history: FrictionHistory, penetration: np.ndarray, touching: np.ndarray
+):
+    """(rows, g, theta): the ``touching`` (s,) bool nodes without an anchor whose approach
+    is kept, their gaps g to the contact surface at their approach, mm, and theta = g / (g +
+    p) (p = ``penetration`` (s,) mm now, taken as 0 where it is not into the surface; theta
+    1 where the node was and is on the surface, g = p = 0). g is the tool's exact distance
+    at the approach (``exact_distance``: a meshed tool's ``distance`` is a lower bound past
+    its search distance) less the contact ``block``'s surface offset now, the one p is
+    measured from (an augmented contact's moved by its multipliers)."""
+    approach = getattr(history, "approach", None)  # (absent from an older pickle)
+    if approach is None:
         none = np.zeros(0)
         return np.zeros(0, dtype=np.int64), none, none
     rows = np.flatnonzero(touching)
-    rows = rows[np.isfinite(gap[rows]) & ~np.isfinite(history.anchor[rows, 0])]
-    g = np.maximum(gap[rows], 0.0)
+    rows = rows[np.isfinite(approach[rows, 0]) & ~np.isfinite(history.anchor[rows, 0])]
+    if len(rows) == 0:
+        return rows, np.zeros(0), np.zeros(0)
+    origin = block.tool.offset(0.0)  # (the approach is in the tool's frame)
+    d, _ = block.tool.exact_distance(approach[rows] + origin, 0.0)
+    g = np.maximum(d - block.surface_offset(history)[rows], 0.0)
     way = g + np.maximum(penetration[rows], 0.0)
     return rows, g, np.where(way > 0.0, g / np.where(way > 0.0, way, 1.0), 1.0)
 
 
-def touched_share(
-    history: FrictionHistory, penetration: np.ndarray, touching: np.ndarray
-) -> np.ndarray:
-    """(s,) theta, the share of a landing node's way over the step before it touched: its gap
-    fell from g (``approach_gap``) to -p (p = ``penetration`` (s,) mm, now) and the contact
-    surface lies at theta = g / (g + p) of the way (the gap taken linear over the step; 1
-    where the node is on the surface but not into it, 0 where it was already through it or
-    the gap was not kept); 0 for a node that is not landing or not ``touching`` (s,) bool
-    (docs/theory.md §9.2)."""
-    theta = np.zeros(len(history.anchor))
-    rows, _, share = _landing_rows(history, penetration, touching)
-    theta[rows] = share
-    return theta
-
-
 def landing_terms(
+    block: Any,
     history: FrictionHistory,
     where: np.ndarray,
     penetration: np.ndarray,
@@ -119,12 +108,13 @@ def landing_terms(
     dtheta/dx = g / (g + p)^2 n^T (dp/dx = -n^T), so P dr/dx = (1 - theta) P - P w n^T with
     w = g / (g + p)^2 (x - x_0): -theta P - P w n^T (P = I - n n^T, n = ``normal`` (s, 3);
     ``where`` (s, 3) the nodes in the tool's frame, mm; ``penetration`` (s,) p, mm; dtheta/dx
-    0 where p <= 0); zero for the other nodes and those not ``touching`` (s,) bool."""
+    0 where p <= 0; g as ``start_anchors`` takes it, of the contact ``block``, fixed: the
+    approach is); zero for the other nodes and those not ``touching`` (s,) bool."""
     terms = np.zeros((len(history.anchor), 3, 3))
-    rows, g, theta = _landing_rows(history, penetration, touching)
+    rows, g, theta = _landing_rows(block, history, penetration, touching)
     if len(rows) == 0:
         return terms
-    assert history.approach is not None  # (kept wherever its gap is)
+    assert history.approach is not None  # (rows only where it is kept)
     n = normal[rows]
     projector = np.eye(3) - n[:, :, None] * n[:, None, :]
     pressed = penetration[rows] > 0.0
@@ -140,20 +130,27 @@ def start_anchors(
     where: np.ndarray | None = None,
     penetration: np.ndarray | None = None,
     touching: np.ndarray | None = None,
+    block: Any = None,
 ) -> np.ndarray:
     """(s, 3) the anchors a step's return mapping starts from, in the tool's frame, mm: the
     history's, and for a node without one the point of its way over the step where it
     touched, a = x_0 + theta (x - x_0) (x_0 its ``approach``, x = ``where`` (s, 3) the nodes
-    now in the tool's frame, mm, theta ``touched_share`` of ``penetration`` (s,) mm, now, for
-    the ``touching`` (s,) bool nodes), so only its tangential motion since then is slip;
-    without ``where`` (or a history without ``approach_gap``, or a node not touching) its
-    approach itself. NaN where there is neither (a history without ``approach``)."""
+    now in the tool's frame, mm, theta = g / (g + p): g its gap to the contact surface of
+    ``block`` at x_0, p its ``penetration`` (s,) now, mm, for the ``touching`` (s,) bool
+    nodes; docs/theory.md §9.2), so only its tangential motion since then is slip; without
+    ``where`` or ``block`` (or for a node not touching) its approach itself. NaN where there
+    is neither (a history without ``approach``)."""
     approach = getattr(history, "approach", None)  # (absent from an older pickle)
     if approach is None:
         return history.anchor
     anchors = np.where(np.isfinite(history.anchor), history.anchor, approach)
-    if where is not None and penetration is not None and touching is not None:
-        rows, _, theta = _landing_rows(history, penetration, touching)
+    if (
+        where is not None
+        and penetration is not None
+        and touching is not None
+        and (block is not None)
+    ):
+        rows, _, theta = _landing_rows(block, history, penetration, touching)
         anchors[rows] += theta[:, None] * (where[rows] - approach[rows])
     return anchors
 
@@ -179,10 +176,7 @@ def initial_friction(block: Any) -> FrictionHistory:
     anchor = np.where(touching[:, None], where, np.nan)
     approach = np.where(touching[:, None], np.nan, where)
     penetration = np.maximum(block.offset - d, 0.0)
-    gap = np.where(touching, np.nan, d - block.offset)
-    return FrictionHistory(
-        anchor, np.zeros(len(d)), penetration, 0.0, approach=approach, approach_gap=gap
-    )
+    return FrictionHistory(anchor, np.zeros(len(d)), penetration, 0.0, approach=approach)
 
 
 def accepted(block: Any, state: Any, history: FrictionHistory) -> FrictionHistory:
@@ -203,7 +197,7 @@ def accepted(block: Any, state: Any, history: FrictionHistory) -> FrictionHistor
     slid = np.where(sliding, length - limit, 0.0)
     unit = s / np.where(length > 0, length, 1.0)[:, None]
     origin = block.tool.offset(state.load_factor)
-    anchors = start_anchors(history, x - origin, p, touching)
+    anchors = start_anchors(history, x - origin, p, touching, block)
     anchor = np.where(touching[:, None], x - origin, np.nan)  # new contacts
     anchor = np.where(stuck[:, None], anchors, anchor)
     moved = anchors + slid[:, None] * unit
@@ -214,11 +208,8 @@ def accepted(block: Any, state: Any, history: FrictionHistory) -> FrictionHistor
     new = (stuck | sliding) & landing(history)
     anchor = np.where(new[:, None], x - origin - spring, anchor)
     approach = np.where(np.isfinite(anchor), np.nan, x - origin)
-    gap = np.where(np.isfinite(anchor[:, 0]), np.nan, d - block.surface_offset(history))
     # The slip happened while p went from its last value to this one: the limit force
     # at their mean (the integrator's midpoint rule) keeps the energy balance O(dt^2).
     force = block.friction * block.stiffness * 0.5 * (p + history.penetration)
     dissipated = history.dissipated + float(np.sum(force * slid))
-    return FrictionHistory(
-        anchor, history.slip + slid, p, dissipated, approach=approach, approach_gap=gap
-    )
+    return FrictionHistory(anchor, history.slip + slid, p, dissipated, approach=approach)

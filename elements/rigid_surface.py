@@ -461,6 +461,28 @@ class RigidSurface(RigidTool):
         self._remember(local.copy(), d.copy(), n.copy(), facet, far)
         return d, n
 
+    def exact_distance(self, x: np.ndarray, load_factor: float = 0.0):
+        """(d (k,), n (k, 3)) the signed distance, mm, and normal of the closest point of the
+        facets at any distance, whatever the search distance (``distance`` tells a point
+        beyond it a lower bound), without the cache (nothing kept: a few points, the landing
+        nodes' approach, elements/contact_history.py); with ``smooth``, the Phong gap within
+        a facet's reach, as ``distance`` gives it."""
+        if np.ndim(x) != 2 or np.shape(x)[1] != 3:
+            raise ValueError(f"points of shape {np.shape(x)} given: expected (k, 3) in mm")
+        local = np.asarray(x, dtype=float) - self.offset(load_factor)
+        if len(local) == 0:
+            return np.zeros(0), np.zeros((0, 3))
+        point, facet, gap = self._search(local, np.inf)
+        d, n = self._signed(local, point, facet, gap)
+        if getattr(self, "smooth", False):
+            near = np.flatnonzero(np.abs(d) < self.reach)
+            gap, normal, found = smoothed_gap(
+                local[near], facet[near], self.corners, self._triangles, self.normals,
+                self._corner_normals, self._rings,
+            )  # fmt: skip
+            d[near[found]], n[near[found]] = gap[found], normal[found]
+        return d, n
+
     def _remember(self, local, d, n, facet, far) -> None:
         """Keep the answer of a call (the points ``local`` (k, 3) in the tool's frame, their
         distances d (k,) and normals n (k, 3), given to the tool to keep) for the same points
@@ -556,11 +578,12 @@ class RigidSurface(RigidTool):
         distance, never within it, whatever the search distance given."""
         return self.search_distance + MARGIN * self.reach
 
-    def _search(self, local: np.ndarray):
-        """The closest facet of each point by the k-d tree (class docstring)."""
+    def _search(self, local: np.ndarray, band: float | None = None):
+        """The closest facet of each point by the k-d tree (class docstring), proved closest
+        below ``band`` (mm; None: the search distance, inf: at any distance)."""
         count = min(CANDIDATES, self.n_facets)
         point, facet, gap, spread = self._closest(local, count)
-        band = self.search_distance
+        band = self.search_distance if band is None else band
 
         def doubtful(spread, gap):  # a facet closer than min(gap, band) may be unexamined
             return spread < np.minimum(gap, band) + self.reach

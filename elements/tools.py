@@ -202,6 +202,11 @@ class RigidTool(ReadOnlyState):
     def distance(self, x: np.ndarray, load_factor: float = 0.0):
         raise NotImplementedError
 
+    def exact_distance(self, x: np.ndarray, load_factor: float = 0.0):
+        """``distance`` exact at any distance and keeping nothing (an analytic tool's own;
+        a meshed one's past its search distance, elements/rigid_surface.py)."""
+        return self.distance(x, load_factor)
+
     def side_hint(self) -> str:
         """What sets the side the body stays on, for a message about a body on the wrong
         side."""

@@ -247,9 +247,11 @@ class HistoryWriter:
 #: The first bytes of a checkpoint file; then the sha256 of the payload (32 bytes), its length
 #: (8 bytes, little-endian) and the pickled payload. The number is the format's: 3 since the
 #: energy records' "internal" became the stored energy (docs/theory.md §6.1, "The energy
-#: records"), so that a run resumed from an older checkpoint cannot change its meaning midway.
+#: records"), 4 since a tool contact's landing node is anchored where its way touched the
+#: surface (docs/theory.md §9.2; its history no longer keeps the approach's gap), so that a
+#: run resumed from an older checkpoint cannot change its meaning midway.
 CHECKPOINT_PREFIX = b"fibreshell checkpoint "
-CHECKPOINT_FORMAT = 3
+CHECKPOINT_FORMAT = 4
 CHECKPOINT_MAGIC = CHECKPOINT_PREFIX + f"{CHECKPOINT_FORMAT}\n".encode()
 
 

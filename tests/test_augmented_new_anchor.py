@@ -5,6 +5,8 @@ which each pass and the accepted step put level with the node, and the friction 
 landed with is carried as its traction, as on the penalty path
 (tests/test_contact_new_anchor.py)."""
 
+from dataclasses import replace
+
 import numpy as np
 import pytest
 
@@ -128,3 +130,21 @@ def test_the_tangent_after_a_pass_is_the_derivative_of_the_forces():
             change = change - block.contact_forces(state(ahead), history)[node]
             column = change / (2.0 * step)
             assert np.abs(blocks[node][:, axis] - column).max() <= 1e-6 * PENALTY
+
+
+def test_a_node_landing_after_a_pass_reset_its_multiplier_touches_the_surface_it_lands_on():
+    """A node that left the tool keeps its multiplier lambda = 2 N (its contact surface
+    lambda / k = 0.02 mm further out) until a pass at a state where it is clear of the tool
+    resets it (lambda + k p < 0). Its next step brings it 2 mm along and down to 0.05 mm into
+    the surface h / 2 it then has: it touched that surface at theta = g / (g + p) = 5 / 5.05
+    of its way (g from its approach 5.5 mm over the plane, to the same surface as p), so it
+    slips 2 x 0.05 / 5.05 - mu 0.05 mm (k_t = k; to 1e-12 mm, rounding). A gap kept when the
+    step before was accepted, to the surface lambda / k further out (4.98 mm), would make it
+    2 x 0.05 / 5.03 - mu 0.05, 7.9e-5 mm more (fails there)."""
+    block, history = bound(RigidPlane((0, 0, 0), (0, 0, 1)), True, [0.0, 0.0, 5.5])
+    history = replace(history, multiplier=np.array([2.0]))  # (kept from its last contact)
+    history = block.update_history(at([0.4, 0.3, 5.5]), history)
+    history, _ = block.augment(at([0.4, 0.3, 5.5]), history)
+    assert history.multiplier[0] == 0.0
+    landed = block.update_history(at([2.4, 0.3, 0.45]), history)
+    assert landed.slip[0] == pytest.approx(2.0 * 0.05 / 5.05 - MU * 0.05, abs=1e-12)

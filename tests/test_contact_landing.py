@@ -9,7 +9,9 @@ import numpy as np
 import pytest
 
 from elements import MindlinShell, RigidPlane, RigidSurface
-from femcore import Mesh, Model
+from elements.contact import Contact
+from femcore import Body, Mesh, Model
+from femcore.state import State
 from materials import ElasticShell
 from solvers import Static
 from solvers.step import LumpedMasses, explicit_step
@@ -90,3 +92,52 @@ def test_static_counts_the_slip_of_a_landing_increment_from_the_touch(increments
     assert result.converged
     slip = SLIDE * (1.0 - GAP / RISE) - MU * (RISE - GAP)
     np.testing.assert_allclose(result.field("contact_slip")[:4], slip, rtol=1e-12)
+
+
+def test_a_node_landing_from_beyond_a_meshed_tools_search_distance_slips_from_the_touch():
+    """A node 5 mm over a 20 x 20 mm meshed table (nx = 10: a search distance of some 3 mm),
+    moved 0.5 mm along it at that height in one step, then in a Static-sized step 2 mm along
+    and down to 0.05 mm into the contact surface (h / 2 = 0.5 mm): it touched at theta = g /
+    (g + p) = 5 / 5.05 of its way, so it slips (1 - theta) 2 mm less the stick spring's mu p
+    (k_t = k), 2 x 0.05 / 5.05 - 0.3 x 0.05 mm, as on the analytic plane the table lies in
+    (both to 1e-12 mm, rounding: the way and the gap are exact, the table flat). The
+    meshed tool's ``distance`` tells the node, past its search distance, a lower bound
+    of its gap (the last search's less the move since, 4.5 mm): a theta from that
+    slid it 0.006978 mm (fails there)."""
+    table = Mesh.rectangle(20.0, 20.0, nx=10, ny=10)
+    table = table.with_points(table.points - [10.0, 10.0, 0.0])
+    far = [50.0, 0.0, 50.0]
+
+    def at(position):
+        zero = np.zeros((2, 3))
+        return State(np.array([position, far], dtype=float), zero, zero.copy(), zero.copy())
+
+    expected = 2.0 * 0.05 / 5.05 - MU * 0.05
+    for tool in (RigidPlane((0, 0, 0), (0, 0, 1)), RigidSurface(table)):
+        mesh = Mesh(np.array([[0.0, 0.0, 5.5], far]), lines=np.array([[0, 1]]))
+        contact = Contact(tool, [0], offset=0.5, penalty=100.0, friction=MU)
+        block = contact.bind(Body.bare(mesh))
+        history = block.update_history(at((0.0, 0.0, 5.5)), block.initial_history())
+        history = block.update_history(at((0.4, 0.3, 5.5)), history)
+        if isinstance(tool, RigidSurface):
+            assert tool.search_distance < 4.0  # the case's premise: beyond its search
+        landed = block.update_history(at((2.4, 0.3, 0.45)), history)
+        assert landed.slip[0] == pytest.approx(expected, abs=1e-12), type(tool).__name__
+
+
+def test_a_meshed_tools_exact_distance_is_the_height_over_a_flat_table_at_any_height():
+    """``exact_distance`` of the 20 x 20 mm table meshed 10 x 10 at points over its middle
+    from 0.1 to 100 mm up (its search distance some 3 mm) is their height (the closest point
+    is below them: to 1e-12 mm, rounding), its normal +z, and it keeps nothing: the tool's
+    ``distance`` asked afterwards for other points answers as a fresh tool's does."""
+    table = Mesh.rectangle(20.0, 20.0, nx=10, ny=10)
+    table = table.with_points(table.points - [10.0, 10.0, 0.0])
+    tool, fresh = RigidSurface(table), RigidSurface(table)
+    heights = np.geomspace(0.1, 100.0, 9)
+    points = np.column_stack([np.linspace(-5.0, 5.0, 9), np.linspace(4.0, -3.0, 9), heights])
+    d, n = tool.exact_distance(points)
+    np.testing.assert_allclose(d, heights, rtol=0.0, atol=1e-12)
+    np.testing.assert_allclose(n, np.tile([0.0, 0.0, 1.0], (9, 1)), atol=1e-12)
+    others = points[:4] * [1.0, 1.0, 0.01]
+    for a, b in zip(tool.distance(others), fresh.distance(others), strict=True):
+        np.testing.assert_array_equal(a, b)
