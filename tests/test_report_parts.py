@@ -4,6 +4,7 @@ results.json is the same as when the parts run one after another in one process,
 times."""
 
 import json
+from dataclasses import replace
 
 import numpy as np
 import parts_case
@@ -138,3 +139,23 @@ def test_the_two_ply_layups_pickle_for_the_report_s_workers():
         assert [list(cells) for cells in again.ply_cells] == [
             list(cells) for cells in layup.ply_cells
         ]
+
+
+@pytest.mark.parametrize("names", [["cheap-parts", "cheap-parts"], ["mindlin-rollup"] * 2])
+def test_a_case_named_twice_is_refused_before_anything_runs(tmp_path, monkeypatch, names):
+    # a case in parts named twice had its parts run and combined twice (a KeyError, no
+    # results.json); a whole case named twice ran once for two entries
+    monkeypatch.setitem(CASES, "cheap-parts", parts_case.CASE)
+    with pytest.raises(ValueError, match=f"{names[0]} given more than once"):
+        report_module.run_cases(names, "coarse", tmp_path, jobs=2, **QUIET)
+    assert not (tmp_path / "results.json").exists()
+
+
+def test_a_case_in_parts_without_parts_is_refused(tmp_path, monkeypatch):
+    # it was never combined (a KeyError after every other case had run)
+    empty = replace(parts_case.CASE, name="no-parts", parts=lambda resolution: {})
+    monkeypatch.setitem(CASES, "no-parts", empty)
+    with pytest.raises(ValueError, match="case 'no-parts' has no parts at resolution 'coarse'"):
+        report_module.run_cases(["no-parts", "mindlin-rollup"], "coarse", tmp_path, jobs=2)
+    with pytest.raises(ValueError, match="unknown case name"):
+        report_module.run_cases(["no-such-case"], "coarse", tmp_path, **QUIET)

@@ -129,6 +129,7 @@ def test_the_paper_cases_check_the_slip_kinematics_and_the_eq15_directors(coarse
     "argv, message",
     [
         (["--cases", "no-such-case"], "unknown case name"),
+        (["--cases", "bai-5.1,mindlin-plate,bai-5.1"], "bai-5.1 given more than once"),
         (["--resolution", "huge"], "unknown resolution"),
         (["--jobs", "0"], "--jobs must be a whole number >= 1"),
         (["--out", str(ROOT / "README.md")], "is a file: give a folder"),

@@ -56,6 +56,12 @@ def parse(argv: list[str], prog: str = "python -m validation") -> argparse.Names
                 f"unknown case name(s) {', '.join(unknown) or '(none given)'}: "
                 f"expected some of {', '.join(CASES)} (see --list)"
             )
+        repeated = sorted({n for n in names if names.count(n) > 1})
+        if repeated:
+            parser.error(
+                f"case name(s) {', '.join(repeated)} given more than once in --cases: "
+                "expected each case once"
+            )
         args.cases = names
     else:
         args.cases = list(CASES)

@@ -472,8 +472,16 @@ def run_cases(
     Returns
     -------
     Report
-        Every case's outcome; a case that raised is recorded as failed and the others run.
+        Every case's outcome; a case that raised is recorded as failed and the others run, as
+        is a case whose worker process died (killed, out of memory) before it was done.
+
+    Raises
+    ------
+    ValueError
+        A name that is not a case, a name given twice, or a case in parts with no part at
+        ``resolution``.
     """
+    _check_names(names, resolution)
     out_dir.mkdir(parents=True, exist_ok=True)
     # before this report replaces them
     measured = measured_costs(out_dir, names, resolution)
@@ -499,6 +507,29 @@ def run_cases(
     (out_dir / "results.json").write_text(json.dumps(content, indent=2, allow_nan=False))
     (out_dir / "index.html").write_text(render_html(content))
     return report
+
+
+def _check_names(names: list[str], resolution: str) -> None:
+    """A ValueError when ``names`` holds an unknown case, repeats a case (its parts would be
+    run and combined twice; a whole case would be run once for two entries) or holds a case in
+    parts with no part at ``resolution`` (there would be nothing to combine)."""
+    repeated = sorted({name for name in names if names.count(name) > 1})
+    if repeated:
+        raise ValueError(
+            f"case name(s) {', '.join(repeated)} given more than once: expected each case once"
+        )
+    unknown = [name for name in names if name not in CASES]
+    if unknown:
+        raise ValueError(
+            f"unknown case name(s) {', '.join(unknown)}: expected some of {', '.join(CASES)}"
+        )
+    for name in names:
+        parts = CASES[name].parts
+        if parts is not None and not parts(resolution):
+            raise ValueError(
+                f"case {name!r} has no parts at resolution {resolution!r}: a case in parts "
+                "needs at least one (Case.parts) to combine"
+            )
 
 
 def _run_all(
