@@ -1,10 +1,15 @@
 """A cheap validation case in parts for the report's tests (tests/test_report_parts.py):
 three independent parts, each a dense linear solve seeded by its key, combined into one
 outcome whose numbers depend on every bit of every part's data and on the parts' order; and
-the same case with a fourth part that raises (``BROKEN``). Importable by the report's spawned
+the same case with a fourth part that raises (``BROKEN``); one whose second part kills its own
+worker process a second into it (``KILLING``, a worker killed by the kernel); one of six parts
+that sleep (``SLEEPING``, a report to interrupt). Importable by the report's spawned
 workers (pytest puts tests/ on sys.path, which a spawned process inherits), which unpickle
 its functions."""
 
+import os
+import signal
+import time
 from dataclasses import replace
 from functools import partial
 from pathlib import Path
@@ -15,7 +20,7 @@ import numpy as np
 from validation.checks import check
 from validation.records import Case, Outcome, compute_parts
 
-__all__ = ["BROKEN", "CASE", "SIZE"]
+__all__ = ["BROKEN", "CASE", "KILLING", "SIZE", "SLEEPING"]
 
 SIZE = 60  # unknowns of each part's system
 
@@ -33,12 +38,30 @@ def _broken() -> None:
     raise ValueError("a part that fails, on purpose")
 
 
+def _killed() -> None:
+    time.sleep(1.0)  # the other case's parts (a millisecond each) are in by then
+    os.kill(os.getpid(), signal.SIGKILL)
+
+
+def _slept(seconds: float) -> float:
+    time.sleep(seconds)
+    return seconds
+
+
 def parts(resolution: str) -> dict[str, Any]:
     return {f"seed {seed}": partial(_part, seed) for seed in (3, 1, 2)}
 
 
 def broken_parts(resolution: str) -> dict[str, Any]:
     return {**parts(resolution), "broken": _broken}
+
+
+def killing_parts(resolution: str) -> dict[str, Any]:
+    return {"seed 4": partial(_part, 4), "killed": _killed}
+
+
+def sleeping_parts(resolution: str) -> dict[str, Any]:
+    return {f"sleep {i}": partial(_slept, 5.0) for i in range(6)}
 
 
 def combine(resolution: str, made: dict[str, Any]) -> Outcome:
@@ -93,3 +116,5 @@ CASE = Case(
     combine=combine,
 )
 BROKEN = replace(CASE, name="cheap-parts-broken", parts=broken_parts)
+KILLING = replace(CASE, name="cheap-parts-killing", parts=killing_parts)
+SLEEPING = replace(CASE, name="cheap-parts-sleeping", parts=sleeping_parts)

@@ -159,3 +159,20 @@ def test_a_case_in_parts_without_parts_is_refused(tmp_path, monkeypatch):
         report_module.run_cases(["no-parts", "mindlin-rollup"], "coarse", tmp_path, jobs=2)
     with pytest.raises(ValueError, match="unknown case name"):
         report_module.run_cases(["no-such-case"], "coarse", tmp_path, **QUIET)
+
+
+def test_a_worker_killed_fails_the_cases_not_done_and_the_report_is_written(tmp_path, monkeypatch):
+    # A killed worker (kill -9, out of memory) broke the pool: BrokenProcessPool came out of
+    # run_cases and the report was lost with every case done before it.
+    monkeypatch.setitem(CASES, "cheap-parts", parts_case.CASE)
+    monkeypatch.setitem(CASES, "cheap-parts-killing", parts_case.KILLING)
+    # bai-5.1 (seconds at coarse) is queued after the parts (the cases not measured first)
+    names = ["cheap-parts", "cheap-parts-killing", "bai-5.1"]
+    report = report_module.run_cases(names, "coarse", tmp_path, jobs=2, **QUIET)
+    assert report.cases["cheap-parts"].outcome.error is None
+    assert report.cases["cheap-parts"].passed == 1
+    for name in names[1:]:
+        assert report.cases[name].outcome.error.startswith("its worker process died")
+    written = json.loads((tmp_path / "results.json").read_text())["cases"]
+    assert list(written) == names
+    assert "its worker process died" in written["cheap-parts-killing"]["error"]

@@ -1,5 +1,6 @@
 """A report run with several jobs leaves no worker behind when it is killed: its worker
-processes end with it, whatever ends it (a kill -9 runs no clean-up in the report's process)."""
+processes end with it, whatever ends it (a kill -9 runs no clean-up in the report's process);
+interrupted (Ctrl-C), it ends at once, its queued tasks not run."""
 
 import os
 import signal
@@ -56,7 +57,8 @@ def _alive(pid: int) -> bool:
 @pytest.mark.waits  # for the report's workers to start
 @pytest.mark.skipif(not Path("/proc/self/stat").exists(), reason="reads Linux's /proc")
 def test_killing_a_report_with_two_jobs_ends_its_workers(tmp_path):
-    # Two cases that take a minute each at the coarse resolution: still running at the kill.
+    # Two cases that take 10-20 s of CPU each at the coarse resolution (hemisphere-forming's
+    # two parts, plies-bai-5.1): still running at the kill.
     report = subprocess.Popen(
         [sys.executable, "-m", "validation", "--cases", "hemisphere-forming,plies-bai-5.1",
          "--resolution", "coarse", "--jobs", "2", "--out", str(tmp_path / "report")],
@@ -92,6 +94,57 @@ def test_killing_a_report_with_two_jobs_ends_its_workers(tmp_path):
             time.sleep(0.2)
         left = [p for p in workers if _alive(p)]
         assert not left, f"workers {left} outlived the killed report"
+    finally:
+        if report.poll() is None:
+            report.kill()
+        for pid in workers:  # never leave one running, whatever failed
+            if _alive(pid):
+                os.kill(pid, signal.SIGKILL)
+
+
+# The report of a case of six parts that sleep 5 s each, run by two workers: 15 s to run all
+INTERRUPTED = """
+import sys
+from pathlib import Path
+sys.path.insert(0, {tests!r})
+import parts_case
+from validation.cases import CASES
+from validation.report import run_cases
+CASES["cheap-parts-sleeping"] = parts_case.SLEEPING
+run_cases(["cheap-parts-sleeping"], "coarse", Path({out!r}), jobs=2)
+"""
+
+
+@pytest.mark.slow  # a few seconds of wall: two workers started and interrupted
+@pytest.mark.waits  # for the report's workers to start
+@pytest.mark.skipif(not Path("/proc/self/stat").exists(), reason="reads Linux's /proc")
+def test_an_interrupted_report_ends_at_once_and_its_workers_with_it(tmp_path):
+    # Ctrl-C let the pool's exit wait for every queued task (the workers take a
+    # KeyboardInterrupt as a task's result and go on with the next): 15 s here, not a few.
+    code = INTERRUPTED.format(tests=str(ROOT / "tests"), out=str(tmp_path / "report"))
+    report = subprocess.Popen(
+        [sys.executable, "-c", code], cwd=ROOT, stdout=subprocess.DEVNULL,
+        stderr=subprocess.DEVNULL,
+        # SIGINT handled as in a terminal's foreground (a background shell ignores it)
+        preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL),
+    )  # fmt: skip
+    workers: list[int] = []
+    try:
+        deadline = time.monotonic() + 120.0
+        while len(workers) < 2 and time.monotonic() < deadline and report.poll() is None:
+            time.sleep(0.2)
+            workers = [p for p in _children(report.pid) if _is_worker(p)]
+        assert len(workers) == 2, "the report did not start its two workers"
+        time.sleep(3.0)  # into their first parts (a worker starts in about 1.5 s of CPU)
+        os.kill(report.pid, signal.SIGINT)  # to the report alone, not its process group
+        interrupted = time.monotonic()
+        report.wait(timeout=60.0)
+        took = time.monotonic() - interrupted
+        # the workers end at once, the interpreter's exit a second or two on a loaded machine
+        assert took < 6.0, f"the interrupted report took {took:.1f} s to end"
+        assert report.returncode != 0
+        left = [p for p in workers if _alive(p)]
+        assert not left, f"workers {left} outlived the interrupted report"
     finally:
         if report.poll() is None:
             report.kill()

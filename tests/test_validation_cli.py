@@ -142,18 +142,21 @@ def test_bad_arguments_give_a_clear_error(argv, message, capsys):
     assert message in capsys.readouterr().err
 
 
-def test_the_workers_start_the_longest_case_first():
+def test_the_workers_start_the_longest_case_first(monkeypatch):
     # With several jobs the cases are started in decreasing order of their measured cost:
     # in report order the longest case started last and ran alone on one core at the end.
     names = list(CASES)
     for resolution in ("coarse", "default"):
-        order = report_module.schedule(names, resolution)
-        assert sorted(order) == sorted(names)
-        costs = [report_module.expected_cost(name, resolution) for name in order]
+        tasks = report_module.schedule_tasks(names, resolution)
+        assert sorted({name for name, _ in tasks}) == sorted(names)
+        whole = [name for name, key in tasks if key is None]
+        costs = [report_module.expected_cost(name, resolution) for name in whole]
         assert costs == sorted(costs, reverse=True)
         assert all(0.0 < cost < float("inf") for cost in costs), "every case measured"
     # a case not measured yet may be the longest: it starts first
-    assert report_module.schedule(["bai-5.1", "no-such-case"], "default")[0] == "no-such-case"
+    monkeypatch.setitem(CASES, "not-measured", CASES["mindlin-plate"])
+    tasks = report_module.schedule_tasks(["bai-5.1", "not-measured"], "default")
+    assert tasks[0] == ("not-measured", None)
 
 
 def _record_submissions(monkeypatch) -> list[str]:
@@ -172,6 +175,9 @@ def _record_submissions(monkeypatch) -> list[str]:
         def __exit__(self, *exc):
             return False
 
+        def shutdown(self, wait=True, cancel_futures=False):
+            pass
+
         def submit(self, function, name, resolution, out_dir, threads):
             submitted.append(name)
             threads_asked.append(threads)
@@ -187,7 +193,7 @@ def test_run_cases_submits_the_cases_to_the_workers_longest_first(tmp_path, monk
     submitted = _record_submissions(monkeypatch)
     names = ["mindlin-plate", "plies-bai-5.1", "bar-wave", "bai-5.1"]
     report = report_module.run_cases(names, "default", tmp_path, echo=lambda *a, **k: None, jobs=2)
-    assert submitted == report_module.schedule(names, "default")
+    assert submitted == [name for name, _ in report_module.schedule_tasks(names, "default")]
     assert submitted[0] == "plies-bai-5.1" and submitted != names
     assert list(report.cases) == names  # the report keeps its order
 
@@ -214,7 +220,7 @@ def test_a_report_folder_s_last_case_times_order_the_next_report(tmp_path, monke
     assert report_module.measured_costs(tmp_path, names, "default") == last
     submitted.clear()
     report_module.run_cases(names, "coarse", tmp_path, echo=lambda *a, **k: None, jobs=2)
-    assert submitted == report_module.schedule(names, "coarse")
+    assert submitted == [name for name, _ in report_module.schedule_tasks(names, "coarse")]
 
 
 def test_by_default_the_report_runs_as_many_cases_at_once_as_cores_are_free(monkeypatch):

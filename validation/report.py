@@ -26,6 +26,7 @@ import threading
 import time
 from collections.abc import Callable
 from concurrent.futures import ProcessPoolExecutor, as_completed
+from concurrent.futures.process import BrokenProcessPool
 from dataclasses import replace
 from datetime import UTC, datetime
 from pathlib import Path
@@ -255,8 +256,9 @@ def measured_part_costs(
 def schedule(
     names: list[str], resolution: str, measured: dict[str, float] | None = None
 ) -> list[str]:
-    """``names`` in the order the workers start them: the largest cost first, report order
-    among equals; the cost is ``measured`` (``measured_costs``, case times of the last report)
+    """``names`` whole, the largest cost first, report order among equals (the order the
+    benchmarks run cases in; the report's workers take ``schedule_tasks``, a case in parts as
+    its parts); the cost is ``measured`` (``measured_costs``, case times of the last report)
     when given, else ``expected_cost``."""
     if measured is not None:
         return sorted(names, key=lambda name: -measured[name])
@@ -532,6 +534,27 @@ def _check_names(names: list[str], resolution: str) -> None:
             )
 
 
+def _died(error: BaseException) -> str:
+    """The error recorded for a task the pool lost (``error``, its BrokenProcessPool): a
+    worker process died (a kill -9, an out-of-memory kill), and the pool ended the others."""
+    return (
+        "its worker process died before it was done (killed, out of memory?), or another "
+        f"worker's did and the pool ended it: {error}"
+    )
+
+
+def _end_workers(workers: set[Any]) -> None:
+    """Terminate the ``workers`` (multiprocessing processes) and wait for them, a few seconds
+    at most each; kill one that is still there (a compiled loop holds SIGTERM's handler)."""
+    for worker in workers:
+        worker.terminate()
+    for worker in workers:
+        worker.join(timeout=5.0)
+        if worker.is_alive():
+            worker.kill()
+            worker.join(timeout=5.0)
+
+
 def _run_all(
     names: list[str],
     resolution: str,
@@ -579,9 +602,11 @@ def _run_all(
     gathered: dict[str, dict[str, Any]] = {name: {} for name in names}
     timed: dict[str, dict[str, tuple[float, float]]] = {name: {} for name in names}
     failed: dict[str, dict[str, str]] = {name: {} for name in names}
-    with ProcessPoolExecutor(
+    before = set(multiprocessing.active_children())
+    pool = ProcessPoolExecutor(
         jobs, mp_context=context, initializer=_end_with, initargs=(os.getpid(),)
-    ) as pool:
+    )
+    try:
         futures = {}
         for name, key in tasks:
             if key is None:
@@ -591,11 +616,20 @@ def _run_all(
             futures[future] = (name, key)
         for future in as_completed(futures):
             name, key = futures[future]
+            died = future.exception()
+            if died is not None and not isinstance(died, BrokenProcessPool):
+                raise died  # the report's own machinery failed: not a case's error
             if key is None:
-                outcome, seconds, cpu = future.result()
-                results[name] = CaseResult(CASES[name], outcome, seconds, cpu)
+                if died is not None:
+                    results[name] = CaseResult(CASES[name], Outcome.failed(_died(died)), 0.0)
+                else:
+                    outcome, seconds, cpu = future.result()
+                    results[name] = CaseResult(CASES[name], outcome, seconds, cpu)
             else:
-                data, error, seconds, cpu = future.result()
+                if died is not None:
+                    data, error, seconds, cpu = None, _died(died), 0.0, 0.0
+                else:
+                    data, error, seconds, cpu = future.result()
                 size = f", {len(data) / 1e6:.1f} MB of data" if data is not None else ""
                 echo(f"  {name}, part {key}: {seconds:.1f} s ({cpu:.1f} s CPU){size}")
                 timed[name][key] = (seconds, cpu)
@@ -614,6 +648,13 @@ def _run_all(
                     out_dir,
                 )
             done(results[name], f"[{len(results)}/{len(names)}] {name}: {CASES[name].title}: ")
+    except BaseException:
+        # Ctrl-C (or any error here): the pool's exit would wait for every queued task, and
+        # the workers, which take a KeyboardInterrupt as a task's result, would run them all.
+        pool.shutdown(wait=False, cancel_futures=True)
+        _end_workers(set(multiprocessing.active_children()) - before)
+        raise
+    pool.shutdown(wait=True)
     return {name: results[name] for name in names}  # report order
 
 
