@@ -445,7 +445,9 @@ class CaseResult:
     where measured, the CPU time of the process that ran them (s; its threads included, not
     its child processes: bai-6.1.1-sensitivity's Dask workers). A case in parts
     (``Case.parts``): the sums over its parts and the step that combined them and drew the
-    figures, wherever they ran, and ``parts`` each part's (wall, CPU) time, s, by its key."""
+    figures, wherever they ran (its cost, as in one process, not its span beside the report's
+    other tasks; a failed case's ``wall_time_s`` too), and ``parts`` each part's (wall, CPU)
+    time, s, by its key."""
 
     case: Case
     outcome: Outcome
