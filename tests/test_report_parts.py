@@ -69,14 +69,22 @@ def test_the_tasks_are_the_parts_longest_first_by_the_last_report_s_part_times(t
     names = ["bai-5.1", "hemisphere-plies", "mindlin-plate"]
     keys = list(CASES["hemisphere-plies"].parts("default"))
     assert len(keys) == 4  # both layups, both kinematics
-    # a first report: the case's expected cost shared evenly among its parts
+    # a first report: the case's expected cost shared among its parts by their weights
     tasks = report_module.schedule_tasks(names, "default")
-    share = report_module.expected_cost("hemisphere-plies", "default") / 4
-    costs = {("hemisphere-plies", key): share for key in keys}
+    weights = {key: report_module.part_weight("hemisphere-plies", key) for key in keys}
+    assert weights == dict(zip(keys, (6.5, 20.9, 9.0, 13.8)))  # [0/90] F, M, [0/45] F, M
+    total = report_module.expected_cost("hemisphere-plies", "default")
+    costs = {
+        ("hemisphere-plies", key): total * w / sum(weights.values()) for key, w in weights.items()
+    }
     costs |= {(n, None): report_module.expected_cost(n, "default") for n in names[::2]}
     assert sorted(tasks) == sorted(costs)
     assert [costs[task] for task in tasks] == sorted(costs.values(), reverse=True)
-    assert tasks[:4] == [("hemisphere-plies", key) for key in keys]  # 12 s each, bai-5.1 4.6
+    # the [0/90] Mindlin run first, bai-5.1 (4.6 s) after the plies' runs (6.3-20.1 s)
+    assert tasks[:5] == [("hemisphere-plies", keys[k]) for k in (1, 3, 2, 0)] + [("bai-5.1", None)]
+    # every part of a case not listed weighs 1: shared evenly
+    assert report_module.part_weight("cheap-parts", "seed 3") == 1.0
+    assert report_module.part_weight("hemisphere-forming", "mindlin n = 20") == 16.1
     # the next: the part times the last report measured, read from its results.json
     last = dict(zip(keys, (3.0, 30.0, 1.0, 8.0)))
     content = {
@@ -95,6 +103,8 @@ def test_the_tasks_are_the_parts_longest_first_by_the_last_report_s_part_times(t
     parts = report_module.measured_part_costs(tmp_path, names, "default")
     assert parts == {"hemisphere-plies": last}
     assert report_module.measured_part_costs(tmp_path, names, "coarse") == {}
+    # without the case times (a case the last report did not run), not beside the table's CPU
+    assert report_module.schedule_tasks(names, "default", None, parts) == tasks
     assert report_module.schedule_tasks(names, "default", measured, parts) == [
         ("hemisphere-plies", keys[1]),
         ("hemisphere-plies", keys[3]),

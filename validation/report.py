@@ -10,7 +10,10 @@ comes back pickled; once a case's last part is in, this process combines them
 time follows the cases' CPU time over ``jobs`` rather than its longest case. A case's
 results are the same split or not; its results.json entry then holds each part's time
 (``parts``), its ``case_time_s`` and ``case_cpu_s`` the sums of the parts' and the combining
-step's. benchmarks/report_wall.py measures the wall against CPU / jobs.
+step's: the case's cost as if it ran in one process (which orders the next report), not its
+span in this one. benchmarks/report_wall.py measures the wall against CPU / jobs. A worker
+that dies (killed, out of memory) fails the cases not done, and the report is written;
+interrupted (Ctrl-C), the report ends its workers at once.
 """
 
 from __future__ import annotations
@@ -42,12 +45,14 @@ from validation.report_html import INTRODUCTION, STYLE, render_html
 
 __all__ = [
     "EXPECTED_CPU_S",
+    "EXPECTED_PART_WEIGHTS",
     "INTRODUCTION",
     "STYLE",
     "default_jobs",
     "expected_cost",
     "measured_costs",
     "measured_part_costs",
+    "part_weight",
     "render_html",
     "run_case",
     "run_cases",
@@ -202,6 +207,34 @@ EXPECTED_CPU_S: dict[str, tuple[float, float]] = {
 }  # fmt: skip
 
 
+# The weights of a case's parts in its expected cost (``EXPECTED_CPU_S``) for the order of a
+# first report (a folder without the last report's part times): a part's weight is the first
+# entry whose words its key holds (hemisphere-plies' keys are "8 cells 0/90 mindlin 20 N" and
+# the like, hemisphere-forming's "fibrous", "mindlin", "fibrous n = 12", ...), a part that
+# holds none weighs 1 and so does every part of a case not listed. Unequal parts shared
+# evenly start the longest one late, on a fresh folder. The parts' CPU times (s) of
+# ``python -m validation --cases hemisphere-plies,hemisphere-forming --jobs 2`` at the
+# default resolution (results.json's "parts"; one thread, a warm numba cache, main 2d1abf1,
+# load 1.2-1.6; 42.1 s of wall). At the fine resolution a forming run on another mesh weighs
+# as its kinematics' default run: an order, not a promise.
+EXPECTED_PART_WEIGHTS: dict[str, dict[str, float]] = {
+    "hemisphere-plies": {
+        "0/90 mindlin": 20.9,
+        "0/45 mindlin": 13.8,
+        "0/45 fibrous": 9.0,
+        "0/90 fibrous": 6.5,
+    },
+    "hemisphere-forming": {"mindlin": 16.1, "fibrous": 8.6},
+}
+
+
+def part_weight(name: str, key: str) -> float:
+    """The weight of part ``key`` of case ``name`` in its expected cost
+    (``EXPECTED_PART_WEIGHTS``): the first listed words its key holds, else 1."""
+    weights = EXPECTED_PART_WEIGHTS.get(name, {})
+    return next((weight for words, weight in weights.items() if words in key), 1.0)
+
+
 def expected_cost(name: str, resolution: str) -> float:
     """The expected CPU time (s) of case ``name`` at ``resolution`` (``EXPECTED_CPU_S``; the
     fine resolution's order is the default's), infinite for a case not measured yet: a new
@@ -276,7 +309,10 @@ def schedule_tasks(
     (``Case.parts``); the largest cost first, report order and then the parts' order among
     equals. A whole case costs as in ``schedule``; a part its time in the last report
     (``measured_part_costs``) when that report timed every part of its case, else its case's
-    cost (``measured`` or ``expected_cost``) shared evenly among its parts."""
+    cost (``measured`` or ``expected_cost``) shared among its parts by their weights
+    (``part_weight``; evenly for a case not listed there). The last report's
+    part times serve only with ``measured`` (wall times both), never beside the table's CPU
+    times."""
     tasks: list[tuple[float, str, str | None]] = []
     for name in names:
         case_cost = measured[name] if measured is not None else expected_cost(name, resolution)
@@ -285,9 +321,11 @@ def schedule_tasks(
             tasks.append((case_cost, name, None))
             continue
         keys = list(parts(resolution))
-        last = (measured_parts or {}).get(name, {})
+        last = (measured_parts or {}).get(name, {}) if measured is not None else {}
+        weights = {key: part_weight(name, key) for key in keys}
         for key in keys:
-            cost = last[key] if set(last) == set(keys) else case_cost / max(len(keys), 1)
+            share = weights[key] / sum(weights.values())
+            cost = last[key] if set(last) == set(keys) else case_cost * share
             tasks.append((cost, name, key))
     return [(name, key) for _, name, key in sorted(tasks, key=lambda task: -task[0])]
 
@@ -358,11 +396,12 @@ def _combined(
     error: str | None,
     out_dir: Path,
 ) -> CaseResult:
-    """The result of a case whose parts ran in the workers: their ``data`` (pickled) by key
-    (in the parts' order) combined and drawn here, or the ``error`` (its text) of the first part, in
-    their order, that raised; the
-    case's wall and CPU times the sums of the parts' ``times`` (wall, CPU; s) and this
-    step's."""
+    """The result of a case whose parts ran in the workers: their ``data`` (pickled) by key,
+    in the parts' order, combined and drawn here; or, when a part raised, the ``error`` (its
+    text) of the first such part in their order. The case's wall and CPU times are the sums
+    of the parts' ``times`` (wall, CPU; s) and this step's: what the case costs, as in one
+    process (``CaseResult``), not the span from its first part's start to its end, which the
+    other tasks beside it stretch."""
     started, cpu = time.perf_counter(), time.process_time()
     if error is not None:
         outcome = Outcome.failed(error)
