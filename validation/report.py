@@ -584,7 +584,7 @@ def _died(error: BaseException) -> str:
 
 def _end_workers(workers: set[Any]) -> None:
     """Terminate the ``workers`` (multiprocessing processes) and wait for them, a few seconds
-    at most each; kill one that is still there (a compiled loop holds SIGTERM's handler)."""
+    at most each; kill one that is still there (a handler of SIGTERM that a case set)."""
     for worker in workers:
         worker.terminate()
     for worker in workers:
