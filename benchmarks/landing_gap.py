@@ -4,7 +4,9 @@ holder: validation/cases/hemisphere_forming.py ``model(12, "fibrous", rim=DIE_RI
 friction=0.2)``, the case's explicit solver): one whole run, one thread, with the tools'
 ``exact_distance`` timed where it is called (CPU, ``time.process_time``): printed beside the
 run's CPU, its steps, the calls and the nodes they were asked for (the landing nodes, each
-asked at the step's force and again when the step is accepted), and the machine's load.
+asked three times in its landing step: at the step's force, at its history's update and when
+the step is accepted; a Static iteration asks at its force and three times at its tangent),
+and the machine's load.
 
     python benchmarks/landing_gap.py
 

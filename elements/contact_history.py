@@ -127,31 +127,25 @@ def landing_terms(
 
 def start_anchors(
     history: FrictionHistory,
-    where: np.ndarray | None = None,
-    penetration: np.ndarray | None = None,
-    touching: np.ndarray | None = None,
-    block: Any = None,
+    where: np.ndarray,
+    penetration: np.ndarray,
+    touching: np.ndarray,
+    block: Any,
 ) -> np.ndarray:
     """(s, 3) the anchors a step's return mapping starts from, in the tool's frame, mm: the
     history's, and for a node without one the point of its way over the step where it
     touched, a = x_0 + theta (x - x_0) (x_0 its ``approach``, x = ``where`` (s, 3) the nodes
     now in the tool's frame, mm, theta = g / (g + p): g its gap to the contact surface of
     ``block`` at x_0, p its ``penetration`` (s,) now, mm, for the ``touching`` (s,) bool
-    nodes; docs/theory.md §9.2), so only its tangential motion since then is slip; without
-    ``where`` or ``block`` (or for a node not touching) its approach itself. NaN where there
-    is neither (a history without ``approach``)."""
+    nodes; docs/theory.md §9.2), so only its tangential motion since then is slip; for a
+    node not touching, its approach itself. NaN where there is neither (a history without
+    ``approach``)."""
     approach = getattr(history, "approach", None)  # (absent from an older pickle)
     if approach is None:
         return history.anchor
     anchors = np.where(np.isfinite(history.anchor), history.anchor, approach)
-    if (
-        where is not None
-        and penetration is not None
-        and touching is not None
-        and (block is not None)
-    ):
-        rows, _, theta = _landing_rows(block, history, penetration, touching)
-        anchors[rows] += theta[:, None] * (where[rows] - approach[rows])
+    rows, _, theta = _landing_rows(block, history, penetration, touching)
+    anchors[rows] += theta[:, None] * (where[rows] - approach[rows])
     return anchors
 
 

@@ -121,17 +121,17 @@ def test_parts_come_with_the_step_that_combines_them():
              lambda d, o: [], parts=parts_case.parts)  # fmt: skip
 
 
-@pytest.mark.slow  # the two coarse forming runs twice: about 40 s of CPU, 2 workers
-def test_hemisphere_forming_gives_the_same_entry_split_and_in_one_process(tmp_path):
+@pytest.mark.slow  # the coarse forming case once in one process (~20 s of CPU)
+def test_hemisphere_forming_gives_the_same_entry_split_and_in_one_process(tmp_path, coarse_report):
+    # the coarse report (tests/conftest.py) ran it with --jobs 2, its two runs as tasks of
+    # their own in the workers and combined in the report's process
+    folder, results = coarse_report
     name = "hemisphere-forming"
     assert list(CASES[name].parts("coarse")) == ["fibrous", "mindlin"]
-    reports = {
-        jobs: report_module.run_cases([name], "coarse", tmp_path / str(jobs), jobs=jobs, **QUIET)
-        for jobs in (2, 1)
-    }
-    assert entry(tmp_path / "2", name) == entry(tmp_path / "1", name)
-    assert reports[2].cases[name].outcome.error is None
-    assert set(reports[2].cases[name].parts) == {"fibrous", "mindlin"}
+    assert set(results["cases"][name]["parts"]) == {"fibrous", "mindlin"}
+    report = report_module.run_cases([name], "coarse", tmp_path, jobs=1, **QUIET)
+    assert report.cases[name].outcome.error is None
+    assert entry(folder, name) == entry(tmp_path, name)
 
 
 def test_the_two_ply_layups_pickle_for_the_report_s_workers():
