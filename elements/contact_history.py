@@ -9,6 +9,8 @@ from typing import Any
 
 import numpy as np
 
+from elements.kept_bits import same_bits
+
 __all__ = [
     "FrictionHistory",
     "accepted",
@@ -88,11 +90,27 @@ def _landing_rows(
     rows = rows[np.isfinite(approach[rows, 0]) & ~np.isfinite(history.anchor[rows, 0])]
     if len(rows) == 0:
         return rows, np.zeros(0), np.zeros(0)
-    origin = block.tool.offset(0.0)  # (the approach is in the tool's frame)
-    d, _ = block.tool.exact_distance(approach[rows] + origin, 0.0)
+    d = _approach_distances(block, history, rows)
     g = np.maximum(d - block.surface_offset(history)[rows], 0.0)
     way = g + np.maximum(penetration[rows], 0.0)
     return rows, g, np.where(way > 0.0, g / np.where(way > 0.0, way, 1.0), 1.0)
+
+
+def _approach_distances(block: Any, history: FrictionHistory, rows: np.ndarray) -> np.ndarray:
+    """(r,) the tool's exact distances, mm, at the approaches of ``history``'s ``rows`` (r,),
+    kept on the contact ``block`` for the last history and rows asked: a landing step asks for
+    them at its forces, its history's update and its acceptance (Static at each iteration's
+    forces and tangent), and a meshed tool's exact distance far from it searches every facet
+    near the way's end (a k-d query whose band widens with the distance)."""
+    kept = block.__dict__.get("_approach_distances")
+    if kept is not None and kept[0] is history and same_bits(kept[1], rows):
+        return kept[2]
+    assert history.approach is not None  # (rows only where it is kept)
+    origin = block.tool.offset(0.0)  # (the approach is in the tool's frame)
+    d, _ = block.tool.exact_distance(history.approach[rows] + origin, 0.0)
+    d.setflags(write=False)
+    block.__dict__["_approach_distances"] = (history, rows.copy(), d)
+    return d
 
 
 def landing_terms(

@@ -79,6 +79,29 @@ def test_a_node_carried_onto_a_rising_tool_dissipates_coulombs_work_after_it_tou
     assert compiled.dissipated_energy(state) == pytest.approx(coulomb, rel=1e-12)
 
 
+def test_a_landing_steps_exact_gaps_are_searched_once(monkeypatch):
+    """The meshed tool's exact distances at the landing nodes' last places (a k-d search that
+    widens with the distance) are asked by the step's forces, its history's update and its
+    acceptance: the same history and nodes, searched once (twice before in this step)."""
+    calls = []
+    exact = RigidSurface.exact_distance
+
+    def counted(tool, points, load_factor=0.0):
+        calls.append(len(points))
+        return exact(tool, points, load_factor)
+
+    monkeypatch.setattr(RigidSurface, "exact_distance", counted)
+    _, model = carried_plate("meshed")
+    compiled = model.compile()
+    state = compiled.initial_state()
+    masses = LumpedMasses.of(compiled, state)
+    previous = 0.0
+    for _ in range(STEPS):
+        outcome = explicit_step(compiled, state, DT, masses, dt_prev=previous, duration=DURATION)
+        state, previous = compiled.commit(outcome.state), DT
+    assert calls == [4]  # the four nodes land in one step (step 84)
+
+
 @pytest.mark.parametrize("increments", [3, 7, 10])
 def test_static_counts_the_slip_of_a_landing_increment_from_the_touch(increments):
     """The same plate and rising plane by Static in 3, 7 or 10 increments: the nodes touch
