@@ -50,6 +50,19 @@ def carried_plate(name: str):
     return flat, model
 
 
+def carried_over_the_run(model):
+    """(the compiled model, its state at the end): ``model`` run over DURATION in STEPS
+    explicit steps of DT, each committed."""
+    compiled = model.compile()
+    state = compiled.initial_state()
+    masses = LumpedMasses.of(compiled, state)
+    previous = 0.0
+    for _ in range(STEPS):
+        outcome = explicit_step(compiled, state, DT, masses, dt_prev=previous, duration=DURATION)
+        state, previous = compiled.commit(outcome.state), DT
+    return compiled, state
+
+
 @pytest.mark.parametrize("name", ["plane", "meshed"])
 def test_a_node_carried_onto_a_rising_tool_dissipates_coulombs_work_after_it_touched(name):
     """A 1 mm plate (one cell) carried at a steady pace along x (1 mm over the run) while a
@@ -65,13 +78,7 @@ def test_a_node_carried_onto_a_rising_tool_dissipates_coulombs_work_after_it_tou
     4 mu k p_1 / 2 x SLIDE / 300 = 1.6e-3 N mm more (p_1 = 8e-4 mm), 8.3e-4 of D: it
     fails there."""
     flat, model = carried_plate(name)
-    compiled = model.compile()
-    state = compiled.initial_state()
-    masses = LumpedMasses.of(compiled, state)
-    previous = 0.0
-    for _ in range(STEPS):
-        outcome = explicit_step(compiled, state, DT, masses, dt_prev=previous, duration=DURATION)
-        state, previous = compiled.commit(outcome.state), DT
+    compiled, state = carried_over_the_run(model)
     assert state.load_factor == pytest.approx(1.0, rel=1e-12)
     np.testing.assert_allclose(state.positions[:, 0] - flat.points[:, 0], SLIDE, rtol=1e-12)
     penetration = RISE * state.load_factor - GAP
@@ -92,13 +99,7 @@ def test_a_landing_steps_exact_gaps_are_searched_once(monkeypatch):
 
     monkeypatch.setattr(RigidSurface, "exact_distance", counted)
     _, model = carried_plate("meshed")
-    compiled = model.compile()
-    state = compiled.initial_state()
-    masses = LumpedMasses.of(compiled, state)
-    previous = 0.0
-    for _ in range(STEPS):
-        outcome = explicit_step(compiled, state, DT, masses, dt_prev=previous, duration=DURATION)
-        state, previous = compiled.commit(outcome.state), DT
+    carried_over_the_run(model)
     assert calls == [4]  # the four nodes land in one step (step 84)
 
 

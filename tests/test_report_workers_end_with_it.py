@@ -53,6 +53,27 @@ def _alive(pid: int) -> bool:
     return state != "Z"
 
 
+def _two_workers(report: subprocess.Popen, within_s: float, poll_s: float) -> list[int]:
+    """The pids of ``report``'s two pool workers once both have started (fewer if it did
+    not start them within ``within_s`` s or ended), looked for every ``poll_s`` s."""
+    workers: list[int] = []
+    deadline = time.monotonic() + within_s
+    while len(workers) < 2 and time.monotonic() < deadline and report.poll() is None:
+        time.sleep(poll_s)
+        workers = [p for p in _children(report.pid) if _is_worker(p)]
+    return workers
+
+
+def _end(report: subprocess.Popen, workers: list[int]) -> None:
+    """Kill ``report`` and its ``workers`` still running: a test never leaves one, whatever
+    failed."""
+    if report.poll() is None:
+        report.kill()
+    for pid in workers:
+        if _alive(pid):
+            os.kill(pid, signal.SIGKILL)
+
+
 @pytest.mark.slow  # about 5 s of CPU: the report and two workers into their cases
 @pytest.mark.waits  # for the report's workers to start
 @pytest.mark.skipif(not Path("/proc/self/stat").exists(), reason="reads Linux's /proc")
@@ -64,12 +85,9 @@ def test_killing_a_report_with_two_jobs_ends_its_workers(tmp_path):
          "--resolution", "coarse", "--jobs", "2", "--out", str(tmp_path / "report")],
         cwd=ROOT, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
     )  # fmt: skip
+    workers: list[int] = []
     try:
-        workers: list[int] = []
-        deadline = time.monotonic() + 300.0
-        while len(workers) < 2 and time.monotonic() < deadline and report.poll() is None:
-            time.sleep(0.5)
-            workers = [p for p in _children(report.pid) if _is_worker(p)]
+        workers = _two_workers(report, within_s=300.0, poll_s=0.5)
         assert len(workers) == 2, "the report did not start its two workers"
         # Past their initializer (report._end_with, which asks the kernel to kill them with
         # the report), so that the kill tests that request, not only the check a worker makes
@@ -95,11 +113,7 @@ def test_killing_a_report_with_two_jobs_ends_its_workers(tmp_path):
         left = [p for p in workers if _alive(p)]
         assert not left, f"workers {left} outlived the killed report"
     finally:
-        if report.poll() is None:
-            report.kill()
-        for pid in workers:  # never leave one running, whatever failed
-            if _alive(pid):
-                os.kill(pid, signal.SIGKILL)
+        _end(report, workers)
 
 
 # The report of a case of six parts that sleep 5 s each, run by two workers: 15 s to run all
@@ -130,10 +144,7 @@ def test_an_interrupted_report_ends_at_once_and_its_workers_with_it(tmp_path):
     )  # fmt: skip
     workers: list[int] = []
     try:
-        deadline = time.monotonic() + 120.0
-        while len(workers) < 2 and time.monotonic() < deadline and report.poll() is None:
-            time.sleep(0.2)
-            workers = [p for p in _children(report.pid) if _is_worker(p)]
+        workers = _two_workers(report, within_s=120.0, poll_s=0.2)
         assert len(workers) == 2, "the report did not start its two workers"
         time.sleep(3.0)  # into their first parts (a worker starts in about 1.5 s of CPU)
         os.kill(report.pid, signal.SIGINT)  # to the report alone, not its process group
@@ -146,8 +157,4 @@ def test_an_interrupted_report_ends_at_once_and_its_workers_with_it(tmp_path):
         left = [p for p in workers if _alive(p)]
         assert not left, f"workers {left} outlived the interrupted report"
     finally:
-        if report.poll() is None:
-            report.kill()
-        for pid in workers:  # never leave one running, whatever failed
-            if _alive(pid):
-                os.kill(pid, signal.SIGKILL)
+        _end(report, workers)
