@@ -22,7 +22,10 @@ the contact surface, a = x_0 + theta (x - x_0) with x_0 where it was then (the h
 ``approach``) and theta = g / (g + p) (g its gap at x_0, the tool's exact distance computed
 when it lands, p its penetration now: the gap taken linear over the step), so its tangential
 motion since it touched is slip like any other node's, and the way before it touched is not
-(docs/theory.md §9.2).
+(docs/theory.md §9.2). A node off the tool at the end of a step that was anchored when the
+last one was accepted slid, in that step, to the point of its way where it left the surface
+(theta = p_0 / (p_0 + g), from where it was then, the history's ``place``): that slip, the
+stick spring holding nothing there, is dissipated at the mean limit force mu k p_0 / 2.
 The anchors, each node's accumulated slip and the dissipation are the block's history
 (femcore.element), so a quasi-static increment returns to them at every iteration and the
 tangent is that of the return mapping (non-symmetric in slip: the solvers' LU takes it).

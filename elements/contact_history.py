@@ -14,6 +14,7 @@ from elements.kept_bits import same_bits
 __all__ = [
     "FrictionHistory",
     "accepted",
+    "departure",
     "initial_friction",
     "landing",
     "landing_terms",
@@ -57,6 +58,12 @@ class FrictionHistory:
         (``start_anchors``), so its tangential motion since it touched is friction's slip
         (elements/contact.py, "Friction"); None: not kept (the node is then frictionless for
         that step).
+    place : (s, 3) float or None
+        Each anchored node: where it was, in the tool's own frame, when the step was
+        accepted, mm (NaN for a node without an anchor). A node that is off the tool at the
+        end of the next step slipped, in that step, from there to the point of its way where
+        it left the contact surface (``departure``); None: not kept (the dissipation of that
+        step then leaves it out).
     """
 
     anchor: np.ndarray
@@ -70,6 +77,7 @@ class FrictionHistory:
     multiplier: np.ndarray | None = None
     traction: np.ndarray | None = None
     approach: np.ndarray | None = None
+    place: np.ndarray | None = None
 
 
 def _landing_rows(
@@ -167,6 +175,44 @@ def start_anchors(
     return anchors
 
 
+def departure(
+    block: Any, history: FrictionHistory, where: np.ndarray, touching: np.ndarray
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(rows, p_0 (r,) mm, slip (r,) mm): the nodes of the contact ``block`` that had an
+    anchor when ``history``'s step was accepted and are not ``touching`` (s,) bool now, at
+    ``where`` (s, 3) in the tool's frame, mm: the step in which they left the tool. Each
+    slid from its ``place`` x_0 to the point of its way where it left the contact surface,
+    x_l = x_0 + theta (x - x_0), theta = p_0 / (p_0 + g) (p_0 its penetration at x_0, g its
+    gap at x, both to the surface of ``block`` now, the one the step's forces take: an
+    augmented contact's moved by its multipliers; the gap taken linear over the step, as a
+    landing node's, ``start_anchors``), under a normal force falling from k p_0 to 0: its
+    slip is its whole tangential offset from its anchor there, |(I - n n^T)(x_l - a)| (n the
+    tool's normal at x_l), the stick spring holding nothing at p = 0 (docs/theory.md
+    §9.2). The distances are the tool's exact ones (``exact_distance``: a meshed tool's
+    ``distance`` is a lower bound past its search distance), asked for these nodes alone.
+    No rows for a frictionless block or a history without ``place``."""
+    place = getattr(history, "place", None)  # (absent from an older pickle)
+    none = np.zeros(0)
+    if place is None or block.friction == 0.0:
+        return np.zeros(0, dtype=np.int64), none, none
+    rows = np.flatnonzero(~touching & np.isfinite(history.anchor[:, 0]) & np.isfinite(place[:, 0]))
+    if len(rows) == 0:
+        return rows, none, none
+    origin = block.tool.offset(0.0)  # (the places and ``where`` are in the tool's frame)
+    start, end = place[rows], where[rows]
+    d, _ = block.tool.exact_distance(np.concatenate([start, end]) + origin, 0.0)
+    surface = block.surface_offset(history)[rows]
+    p0 = np.maximum(surface - d[: len(rows)], 0.0)
+    gap = np.maximum(d[len(rows) :] - surface, 0.0)
+    way = p0 + gap
+    theta = np.where(way > 0.0, p0 / np.where(way > 0.0, way, 1.0), 0.0)
+    left = start + theta[:, None] * (end - start)
+    _, n = block.tool.exact_distance(left + origin, 0.0)
+    r = left - history.anchor[rows]
+    s = r - np.sum(r * n, axis=1)[:, None] * n
+    return rows, p0, np.linalg.norm(s, axis=1)
+
+
 def landing(history: FrictionHistory) -> np.ndarray:
     """(s,) bool: the nodes that had no anchor when ``history``'s step was accepted, their
     step's anchor their ``approach``: those whose approach is kept (an augmented Lagrangian's
@@ -188,14 +234,17 @@ def initial_friction(block: Any) -> FrictionHistory:
     anchor = np.where(touching[:, None], where, np.nan)
     approach = np.where(touching[:, None], np.nan, where)
     penetration = np.maximum(block.offset - d, 0.0)
-    return FrictionHistory(anchor, np.zeros(len(d)), penetration, 0.0, approach=approach)
+    return FrictionHistory(
+        anchor, np.zeros(len(d)), penetration, 0.0, approach=approach, place=anchor.copy()
+    )
 
 
 def accepted(block: Any, state: Any, history: FrictionHistory) -> FrictionHistory:
     """The return mapping of a tool contact ``block`` (elements/contact.py, "Friction")
     accepted at ``state`` from ``history``: sliding anchors follow their nodes to the friction
     limit, new contacts are anchored where they are, lost ones forget their anchor; the slip
-    and its dissipation added."""
+    and its dissipation added, a node that left the tool's up to where it left
+    (``departure``)."""
     x = block._positions(state)
     d, n = block.tool.distance(x, state.load_factor)
     if history.active is None:
@@ -208,9 +257,9 @@ def accepted(block: Any, state: Any, history: FrictionHistory) -> FrictionHistor
     limit = block.friction * p / block.stick_ratio  # the spring's length at the limit
     slid = np.where(sliding, length - limit, 0.0)
     unit = s / np.where(length > 0, length, 1.0)[:, None]
-    origin = block.tool.offset(state.load_factor)
-    anchors = start_anchors(history, x - origin, p, touching, block)
-    anchor = np.where(touching[:, None], x - origin, np.nan)  # new contacts
+    where = x - block.tool.offset(state.load_factor)  # in the tool's frame
+    anchors = start_anchors(history, where, p, touching, block)
+    anchor = np.where(touching[:, None], where, np.nan)  # new contacts
     anchor = np.where(stuck[:, None], anchors, anchor)
     moved = anchors + slid[:, None] * unit
     anchor = np.where(sliding[:, None], moved, anchor)
@@ -218,10 +267,18 @@ def accepted(block: Any, state: Any, history: FrictionHistory) -> FrictionHistor
     # tool: put it level with the node, where its spring (s stuck, at the limit) ends.
     spring = np.where(sliding[:, None], limit[:, None] * unit, s)
     new = (stuck | sliding) & landing(history)
-    anchor = np.where(new[:, None], x - origin - spring, anchor)
-    approach = np.where(np.isfinite(anchor), np.nan, x - origin)
+    anchor = np.where(new[:, None], where - spring, anchor)
+    anchored = np.isfinite(anchor[:, :1])
+    approach = np.where(anchored, np.nan, where)
+    place = np.where(anchored, where, np.nan)
     # The slip happened while p went from its last value to this one: the limit force
     # at their mean (the integrator's midpoint rule) keeps the energy balance O(dt^2).
-    force = block.friction * block.stiffness * 0.5 * (p + history.penetration)
+    mean = 0.5 * (p + history.penetration)
+    # A node that left slid until it left, while p fell from p_0 to 0 (``departure``).
+    rows, start, way = departure(block, history, where, touching)
+    slid[rows], mean[rows] = way, 0.5 * start
+    force = block.friction * block.stiffness * mean
     dissipated = history.dissipated + float(np.sum(force * slid))
-    return FrictionHistory(anchor, history.slip + slid, p, dissipated, approach=approach)
+    return FrictionHistory(
+        anchor, history.slip + slid, p, dissipated, approach=approach, place=place
+    )
