@@ -251,3 +251,30 @@ def at(position, far):
     """A state of a two-node line: node 0 at ``position``, node 1 at ``far``, at rest."""
     zero = np.zeros((2, 3))
     return State(np.array([position, far], dtype=float), zero, zero.copy(), zero.copy())
+
+
+def test_a_node_leaving_for_beyond_a_meshed_tools_search_distance_slips_to_where_it_left():
+    """A node sliding 0.05 mm into the contact surface of a 20 x 20 mm table meshed 10 x 10 (a
+    search distance of some 3 mm), its anchor mu p_0 behind it along x, moved in one step 2 mm
+    along x and up to 5 mm clear of the surface: it left at theta = 0.05 / 5.05 of its way,
+    so it slipped mu p_0 + 2 theta mm, dissipated at mu k p_0 / 2, as on the analytic plane
+    the table lies in (both to 1e-12: the way and the gaps exact, the table flat): the
+    departure asks the tool's exact distances, which keep nothing (the meshed tool's
+    ``distance`` keeps its last search for the nodes' next step)."""
+    table = Mesh.rectangle(20.0, 20.0, nx=10, ny=10)
+    table = table.with_points(table.points - [10.0, 10.0, 0.0])
+    far = [50.0, 0.0, 50.0]
+    slip = MU * 0.05 + 2.0 * 0.05 / 5.05
+    for tool in (RigidPlane((0, 0, 0), (0, 0, 1)), RigidSurface(table)):
+        mesh = Mesh(np.array([[0.0, 0.0, 1.0], far]), lines=np.array([[0, 1]]))
+        contact = Contact(tool, [0], offset=0.5, penalty=100.0, friction=MU)
+        block = contact.bind(Body.bare(mesh))
+        history = block.update_history(at([0.0, 0.0, 0.45], far), block.initial_history())
+        history = block.update_history(at([0.4, 0.0, 0.45], far), history)  # at its limit
+        if isinstance(tool, RigidSurface):
+            assert tool.search_distance < 4.0  # the case's premise: it leaves beyond it
+        left = block.update_history(at([2.4, 0.0, 5.5], far), history)
+        name = type(tool).__name__
+        assert left.slip[0] - history.slip[0] == pytest.approx(slip, abs=1e-12), name
+        dissipated = MU * 100.0 * 0.5 * 0.05 * slip
+        assert left.dissipated - history.dissipated == pytest.approx(dissipated, rel=1e-12)
