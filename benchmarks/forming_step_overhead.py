@@ -316,7 +316,13 @@ from the cuts' own, not gathered and reduced twice a search; the face's inputs o
 replayed calls, load 4). Beside main 9e8d4d5 (``git archive``, best of 3, load 3.5-5.6):
 Mindlin [0/90], 16402 steps, 1.399 -> 1.418 ms a step (the run's noise: single runs 22.9-25.0
 s against 23.3-24.6 s), the ply contacts' history 0.629 -> 0.617 ms a step; the same steps and
-final positions and directors to the bit. What is left of the history is Python round a
+final positions and directors to the bit. The first 30 % of that run with the timers
+(load 3.3): the full searches 492 us a call (1290 before, load 4.4), the candidates 77 us a
+call (131). hemisphere-plies default (``python -m validation --cases hemisphere-plies --jobs
+1``, the two trees at once, load 4-6): results.json the same in all its 333 numbers but the
+times, the three PNG files byte for byte, 24 of 24 checks; case_cpu_s 98.8 -> 91.9 s (one
+pair at once, not best of several: Mindlin [0/90] 24.93 -> 23.42 s, Mindlin [0/45] 15.80 ->
+14.93, fibrous [0/45] 10.28 -> 9.74). What is left of the history is Python round a
 dozen compiled calls a block (the facing's two, the faces', the lists' moves, the offsets'
 direction, the friction's pass) and the friction's return mapping; fusing them into one pass
 needs the kept lists' renewal (a search, with numpy's cut growths) and numpy's ``arctan2``
