@@ -304,29 +304,32 @@ Eighth round, the ply contacts' committed history (``--reference`` now times eac
 ``update_history`` too, and compares the final directors as well as the positions; the trees
 alternate, the first of each round in turn). Where its 0.70 ms a step went (Mindlin [0/90],
 one thread, CPU timers round the parts, load 4.4, 1.98 ms a step with the timers): per call
-(two a step) the facing of the new state 358 us (``whole_facing`` 174: its two compiled calls
-63 + 49, its Python glue the rest; the candidates 131, of it the full searches 65 on average,
-1.3 ms each at 0.11 a step early in the run; the facing's own glue some 40), the friction's
-history 76, the sides 30. Two cuts, each giving the same bits: the full search of the upper
-pass (384 points x 128 triangles) by the compiled matrix's passes (elements/ply_search.py
-``EVERY_PAIR`` 16384 -> 2^21; benchmarks/ply_relist.py --crossover: 0.79 against 2.61 ms a
-search, load 5; the same lists on 178 searches replayed from the run) and the cut flags read
-from the cuts' own, not gathered and reduced twice a search; the face's inputs of
-``whole_facing`` converted once and kept by identity (3-7 us of 100-115 a call on 107
-replayed calls, load 4). Beside main 9e8d4d5 (``git archive``, best of 3, load 3.5-5.6):
-Mindlin [0/90], 16402 steps, 1.399 -> 1.418 ms a step (the run's noise: single runs 22.9-25.0
-s against 23.3-24.6 s), the ply contacts' history 0.629 -> 0.617 ms a step; the same steps and
-final positions and directors to the bit. The first 30 % of that run with the timers
-(load 3.3): the full searches 492 us a call (1290 before, load 4.4), the candidates 77 us a
-call (131). hemisphere-plies default (``python -m validation --cases hemisphere-plies --jobs
-1``, the two trees at once, load 4-6): results.json the same in all its 333 numbers but the
-times, the three PNG files byte for byte, 24 of 24 checks; case_cpu_s 98.8 -> 91.9 s (one
-pair at once, not best of several: Mindlin [0/90] 24.93 -> 23.42 s, Mindlin [0/45] 15.80 ->
-14.93, fibrous [0/45] 10.28 -> 9.74). What is left of the history is Python round a
-dozen compiled calls a block (the facing's two, the faces', the lists' moves, the offsets'
-direction, the friction's pass) and the friction's return mapping; fusing them into one pass
-needs the kept lists' renewal (a search, with numpy's cut growths) and numpy's ``arctan2``
-(kept for its bits, elements/ply_edge_kernels.py) out of the way first.
+(two a step) the facing of the new state 358 us (``whole_facing`` 174: its two compiled
+calls 63 + 49, its Python glue the rest; the candidates 131, of it the full searches 65 on
+average, 1.3 ms each at 0.11 a step early in the run; the facing's own glue some 40), the
+friction's history 76, the sides 30. Two cuts, each giving the same bits: the full search of
+the upper pass (384 points x 128 triangles) by the compiled matrix's passes
+(elements/ply_search.py ``EVERY_PAIR`` 16384 -> 2^21; benchmarks/ply_relist.py --crossover:
+0.79 against 2.61 ms a search, load 5; the same lists on 178 searches replayed from the run)
+and the cut flags read from the cuts' own, not gathered and reduced twice a search; the
+face's inputs of ``whole_facing`` converted once and kept by identity (3-7 us of 100-115 a
+call on 107 replayed calls, load 4). Beside main 9e8d4d5 (``git archive``, best of 3, load
+3.5-5.6): Mindlin [0/90], 16402 steps, 1.399 -> 1.418 ms a step (the run's noise: single
+runs 22.9-25.0 s against 23.3-24.6 s), the ply contacts' history 0.629 -> 0.617 ms a step;
+the same steps and final positions and directors to the bit; fibrous [0/45], 4825 steps
+(best of 2, load 3.1-4.1): 1.922 -> 1.974 ms a step (single runs 9.27-9.42 against 9.52-9.56
+s: within the noise either way), the history 0.779 -> 0.751, the same bits. The first 30 %
+of the Mindlin [0/90] run with the timers (load 3.3): the full searches 492 us a call (1290
+before, load 4.4), the candidates 77 us a call (131). hemisphere-plies default (``python -m
+validation --cases hemisphere-plies --jobs 1``, the two trees at once, load 4-6):
+results.json the same in all its 333 numbers but the times, the three PNG files byte for
+byte, 24 of 24 checks; case_cpu_s 98.8 -> 91.9 s (one pair at once, not best of several:
+Mindlin [0/90] 24.93 -> 23.42 s, Mindlin [0/45] 15.80 -> 14.93, fibrous [0/45] 10.28 ->
+9.74). What is left of the history is Python round a dozen compiled calls a block (the
+facing's two, the faces', the lists' moves, the offsets' direction, the friction's pass) and
+the friction's return mapping; fusing them into one pass needs the kept lists' renewal (a
+search, with numpy's cut growths) and numpy's ``arctan2`` (kept for its bits,
+elements/ply_edge_kernels.py) out of the way first.
 """
 
 from __future__ import annotations
