@@ -299,6 +299,37 @@ its facing of the new state most of it), the die's closest facets (0.19 ms a ste
 full searches' 0.11 ms a step (each about 1 ms of numpy glue: the 81-point pass's matrix of
 the centroids' distances, 0.63 ms a search, is most of its own; the 384-point pass's trees
 1.26 ms).
+
+Eighth round, the ply contacts' committed history (``--reference`` now times each block's
+``update_history`` too, and compares the final directors as well as the positions; the trees
+alternate, the first of each round in turn). Where its 0.70 ms a step went (Mindlin [0/90],
+one thread, CPU timers round the parts, load 4.4, 1.98 ms a step with the timers): per call
+(two a step) the facing of the new state 358 us (``whole_facing`` 174: its two compiled
+calls 63 + 49, its Python glue the rest; the candidates 131, of it the full searches 65 on
+average, 1.3 ms each at 0.11 a step early in the run; the facing's own glue some 40), the
+friction's history 76, the sides 30. Two cuts, each giving the same bits: the full search of
+the upper pass (384 points x 128 triangles) by the compiled matrix's passes
+(elements/ply_search.py ``EVERY_PAIR`` 16384 -> 2^21; benchmarks/ply_relist.py --crossover:
+0.79 against 2.61 ms a search, load 5; the same lists on 178 searches replayed from the run)
+and the cut flags read from the cuts' own, not gathered and reduced twice a search; the
+face's inputs of ``whole_facing`` converted once and kept by identity (3-7 us of 100-115 a
+call on 107 replayed calls, load 4). Beside main 9e8d4d5 (``git archive``, best of 3, load
+3.5-5.6): Mindlin [0/90], 16402 steps, 1.399 -> 1.418 ms a step (the run's noise: single
+runs 22.9-25.0 s against 23.3-24.6 s), the ply contacts' history 0.629 -> 0.617 ms a step;
+the same steps and final positions and directors to the bit; fibrous [0/45], 4825 steps
+(best of 2, load 3.1-4.1): 1.922 -> 1.974 ms a step (single runs 9.27-9.42 against 9.52-9.56
+s: within the noise either way), the history 0.779 -> 0.751, the same bits. The first 30 %
+of the Mindlin [0/90] run with the timers (load 3.3): the full searches 492 us a call (1290
+before, load 4.4), the candidates 77 us a call (131). hemisphere-plies default (``python -m
+validation --cases hemisphere-plies --jobs 1``, the two trees at once, load 4-6):
+results.json the same in all its 333 numbers but the times, the three PNG files byte for
+byte, 24 of 24 checks; case_cpu_s 98.8 -> 91.9 s (one pair at once, not best of several:
+Mindlin [0/90] 24.93 -> 23.42 s, Mindlin [0/45] 15.80 -> 14.93, fibrous [0/45] 10.28 ->
+9.74). What is left of the history is Python round a dozen compiled calls a block (the
+facing's two, the faces', the lists' moves, the offsets' direction, the friction's pass) and
+the friction's return mapping; fusing them into one pass needs the kept lists' renewal (a
+search, with numpy's cut growths) and numpy's ``arctan2`` (kept for its bits,
+elements/ply_edge_kernels.py) out of the way first.
 """
 
 from __future__ import annotations
@@ -329,11 +360,24 @@ settings = json.loads(settings)  # this tree's (the tree run may not have case_s
 short, solver, model = case_model(case, kinematics, layup, int(cells), history, settings)
 # compiled (or read from numba's cache) before the timing: a short run of the same model
 short.solve(model.compile())
+# the ply contacts' committed history (their facing of the new state, sides and friction),
+# timed round each block's update_history (a two-ply step calls it twice)
+from elements.ply_block import PlyContactBlock
+history_cpu = [0.0]
+update_history = PlyContactBlock.update_history
+def timed_history(self, state, history):
+    begin = time.process_time()
+    try:
+        return update_history(self, state, history)
+    finally:
+        history_cpu[0] += time.process_time() - begin
+PlyContactBlock.update_history = timed_history
 start = time.process_time()
 result = solver.solve(model.compile())
 cpu = time.process_time() - start
-print(json.dumps({"cpu": cpu, "steps": result.steps,
-                  "positions": result.positions.tolist()}))
+print(json.dumps({"cpu": cpu, "steps": result.steps, "history": history_cpu[0],
+                  "positions": result.positions.tolist(),
+                  "directors": result.frames[-1].directors.tolist()}))
 """
 
 
@@ -506,21 +550,32 @@ def main() -> None:
         return
     trees = {"reference": args.reference.resolve(), "this": HERE}
     best: dict[str, float] = {name: np.inf for name in trees}
+    history: dict[str, float] = {name: np.inf for name in trees}
     ends: dict[str, dict] = {}
-    for _ in range(args.repeats):
-        for name, tree in trees.items():
+    for round_ in range(args.repeats):
+        # alternating, the first tree of each round in turn
+        for name in list(trees)[:: 1 if round_ % 2 == 0 else -1]:
             print(f"load {os.getloadavg()[0]:.1f}: {name} ...", flush=True)
-            ran = run_in(tree, args.case, args.kinematics, args.layup, args.cells)
+            ran = run_in(trees[name], args.case, args.kinematics, args.layup, args.cells)
             best[name] = min(best[name], ran["cpu"] / ran["steps"] * 1e3)
+            history[name] = min(history[name], ran["history"] / ran["steps"] * 1e3)
+            print(f"  {name}: {ran['cpu']:.2f} s CPU, {ran['steps']} steps, the ply "
+                  f"contacts' history {ran['history']:.2f} s", flush=True)  # fmt: skip
             ends[name] = ran
-    same = ends["this"]["steps"] == ends["reference"]["steps"] and np.array_equal(
-        np.array(ends["this"]["positions"]), np.array(ends["reference"]["positions"])
+    same = ends["this"]["steps"] == ends["reference"]["steps"] and all(
+        np.array_equal(
+            np.array(ends["this"][key]), np.array(ends["reference"][key]), equal_nan=True
+        )
+        for key in ("positions", "directors")
     )
     print(f"{args.case}, {args.kinematics} [{args.layup}], {args.cells} cells, "
           f"{ends['this']['steps']} steps: "
           f"ms a step (best of {args.repeats}, CPU) reference {best['reference']:.3f}, this "
-          f"{best['this']:.3f} (x {best['reference'] / best['this']:.2f}); the same steps and "
-          f"final positions to the bit: {same} (load {os.getloadavg()[0]:.1f})")  # fmt: skip
+          f"{best['this']:.3f} (x {best['reference'] / best['this']:.2f}); the ply contacts' "
+          f"history reference {history['reference']:.3f}, this {history['this']:.3f} ms a "
+          f"step (x {history['reference'] / history['this']:.2f}); the same steps and final "
+          f"positions and directors to the bit: {same} "
+          f"(load {os.getloadavg()[0]:.1f})")  # fmt: skip
 
 
 if __name__ == "__main__":

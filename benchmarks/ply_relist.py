@@ -55,6 +55,26 @@ it, by the matrix and by the trees, 0.5 s of calls each; load 3.7), ms per searc
 | 160 x 200 = 32000 | 2.85 | 1.80 |
 | 200 x 288 = 57600 | 4.51 | 2.08 |
 
+Again with the matrix's passes compiled (elements/ply_search_pairs.py) and the cut flags read
+from the cuts' own (``WedgeCuts.cut``), larger faces added (load 5.0-5.3), ms per search:
+
+| points x triangles | matrix | trees |
+|---|---|---|
+| 48 x 72 = 3456 | 0.17 | 0.75 |
+| 200 x 72 = 14400 | 0.45 | 1.71 |
+| 128 x 128 = 16384 | 0.32 | 1.10 |
+| 80 x 200 = 16000 | 0.26 | 1.02 |
+| 160 x 200 = 32000 | 0.41 | 1.56 |
+| 200 x 288 = 57600 | 0.51 | 1.86 |
+| 384 x 128 = 49152 | 0.79 | 2.61 |
+| 512 x 512 = 262144 | 1.45 | 3.74 |
+| 1000 x 1152 = 1152000 | 4.26 | 8.03 |
+| 2000 x 2048 = 4096000 | 16.46 | 16.21 |
+| 4000 x 3200 = 12800000 | 59.21 | 35.53 |
+
+So ``EVERY_PAIR`` is 2^21 (about two million pairs, a 16 MB matrix) where it was 16384: the
+two-ply hemisphere's upper pass (384 x 128) now takes the matrix too.
+
 Run: python benchmarks/ply_relist.py [--repeat 2] [--crossover]
 """
 
@@ -123,7 +143,9 @@ def crossover() -> None:
     from elements.ply_wedge import WedgeCuts
 
     rng = np.random.default_rng(0)
-    for cells, count in [(6, 48), (6, 200), (8, 128), (10, 80), (10, 160), (12, 200)]:
+    sizes = [(6, 48), (6, 200), (8, 128), (10, 80), (10, 160), (12, 200), (8, 384)]
+    sizes += [(16, 512), (24, 1000), (32, 2000), (40, 4000)]
+    for cells, count in sizes:
         u = np.arange(cells + 1) * 10.0
         gx, gy = np.meshgrid(u, u, indexing="ij")
         nodes = np.column_stack([gx.ravel(), gy.ravel(), rng.normal(0.0, 6.0, gx.size)])

@@ -22,6 +22,8 @@ the KD-tree's edges, as before.
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 import numpy as np
 
 from elements.jit import lanes
@@ -195,9 +197,8 @@ def whole_facing(
     count = len(p)
     p = read_only(p)  # read-only as the block keeps them: one build (kernel_inputs.py)
     y = read_only(y)
-    outline = np.ascontiguousarray(outline, dtype=np.bool_)
-    nodes = np.ascontiguousarray(topology.nodes, dtype=np.int64)
-    fans = np.ascontiguousarray(topology.fans, dtype=np.int64)
+    face = _face_inputs(topology, outline, cuts, len(y))
+    outline, nodes, fans = face.outline, face.nodes, face.fans
     has_toward = toward is not None
     choice, picked = choice_arrays(count), chosen_arrays(count)
     best, on_edge, closest, on_cut, segment, along = choice
@@ -205,10 +206,9 @@ def whole_facing(
     width = fans.shape[1]
     on_q, rise, run = np.empty((count, 3)), np.empty((count, width)), np.empty((count, width))
     planes = (np.empty((count, 3)), np.empty(count), np.empty((count, 3)))
-    has_cuts, cut, lines, cut_ends = cut_arrays(cuts, len(y))
     _choice_compiled(
-        p, y, np.ascontiguousarray(near, dtype=np.int64), outline, MARGIN, INSIDE, has_cuts,
-        cut, lines, cut_ends,
+        p, y, np.ascontiguousarray(near, dtype=np.int64), outline, MARGIN, INSIDE,
+        face.has_cuts, face.cut, face.lines, face.cut_ends,
         np.ascontiguousarray(toward if has_toward else np.zeros((1, 3)), dtype=float),
         has_toward, nodes, fans, *choice, *picked, on_q, rise, run, *planes,
     )  # fmt: skip
@@ -218,21 +218,13 @@ def whole_facing(
     joined, at_rim, _, on_growth, _, near_outline, touching = flags
     fade, fade_gradient = np.ones(count), np.zeros((count, 6, 3))
     fade_edge = np.full(count, -1)
-    # as the fade's kernel is handed the cuts (elements/ply_fade_kernels.py)
-    empty = np.zeros((0, 3, 3))
-    fade_lines = empty if cuts is None else writable(cuts.lines)
-    fade_ends = empty if cuts is None else writable(cuts.ends)
     made = _sides_fade_compiled(
         p, y, on_edge, closest, on_cut, triangle, gap, normal, lam, reach, reached, turned,
-        overshoot, nodes, fans, np.ascontiguousarray(topology.edges, dtype=np.int64),
-        np.ascontiguousarray(topology.edge_halves, dtype=np.int64),
-        np.ascontiguousarray(topology.other, dtype=np.int64), outline,
-        np.ascontiguousarray(topology.rim, dtype=np.bool_), INSIDE, angles, on_q,
-        float(depth), float(tolerance), MARGIN, *flags, planes[0], writable(gradients),
-        planes[1], planes[2], np.ascontiguousarray(topology.segment_rows, dtype=np.int64),
-        np.ascontiguousarray(topology.segment_ends, dtype=np.int64), cuts is not None,
-        fade_lines, fade_ends, KEEP, float(length), float(length**2), EVERY_PAIR, fade,
-        fade_gradient, fade_edge,
+        overshoot, nodes, fans, face.edges, face.edge_halves, face.other, outline, face.rim,
+        INSIDE, angles, on_q, float(depth), float(tolerance), MARGIN, *flags, planes[0],
+        writable(gradients), planes[1], planes[2], face.segment_rows, face.segment_ends,
+        cuts is not None, face.fade_lines, face.fade_ends, KEEP, float(length),
+        float(length**2), EVERY_PAIR, fade, fade_gradient, fade_edge,
     )  # fmt: skip
     if not made:  # the outline's nearest edges by the KD-tree (ply_fade.nearest_segments)
         at = np.flatnonzero(near_outline)
@@ -262,3 +254,73 @@ def whole_facing(
         joined=joined,
         on_edge=on_edge,
     )
+
+
+@dataclass(frozen=True)
+class _FaceInputs:
+    """The two calls' inputs that depend on the lower face alone (its topology, outline and
+    growths' cuts), as the kernels take them (C-contiguous, their dtypes; the cut flags and
+    the fade's copies of the cuts made)."""
+
+    outline: np.ndarray
+    nodes: np.ndarray
+    fans: np.ndarray
+    edges: np.ndarray
+    edge_halves: np.ndarray
+    other: np.ndarray
+    rim: np.ndarray
+    segment_rows: np.ndarray
+    segment_ends: np.ndarray
+    has_cuts: bool
+    cut: np.ndarray
+    lines: np.ndarray
+    cut_ends: np.ndarray
+    fade_lines: np.ndarray
+    fade_ends: np.ndarray
+
+
+# the faces' inputs kept by the identity of their topology, outline and cuts (a block's own,
+# made at bind and never written): converted at each call before, about a tenth of a call's
+# CPU on the two-ply hemisphere (benchmarks/forming_step_overhead.py). A few faces are kept
+# (a model's ply passes), the oldest dropped past ``_FACES_KEPT``.
+_FACES: dict[int, tuple] = {}
+_FACES_KEPT = 16
+
+
+def _face_inputs(
+    topology: FaceTopology, outline: np.ndarray, cuts: WedgeCuts | None, m: int
+) -> _FaceInputs:
+    """``whole_facing``'s inputs of the face (``_FaceInputs``) with ``m`` triangles, kept."""
+    kept = _FACES.get(id(topology))
+    if (
+        kept is not None
+        and kept[0] is topology
+        and kept[1] is outline
+        and kept[2] is cuts
+        and kept[3] == m
+    ):
+        return kept[4]
+    has_cuts, cut, lines, cut_ends = cut_arrays(cuts, m)
+    # as the fade's kernel is handed the cuts (elements/ply_fade_kernels.py)
+    empty = np.zeros((0, 3, 3))
+    made = _FaceInputs(
+        outline=np.ascontiguousarray(outline, dtype=np.bool_),
+        nodes=np.ascontiguousarray(topology.nodes, dtype=np.int64),
+        fans=np.ascontiguousarray(topology.fans, dtype=np.int64),
+        edges=np.ascontiguousarray(topology.edges, dtype=np.int64),
+        edge_halves=np.ascontiguousarray(topology.edge_halves, dtype=np.int64),
+        other=np.ascontiguousarray(topology.other, dtype=np.int64),
+        rim=np.ascontiguousarray(topology.rim, dtype=np.bool_),
+        segment_rows=np.ascontiguousarray(topology.segment_rows, dtype=np.int64),
+        segment_ends=np.ascontiguousarray(topology.segment_ends, dtype=np.int64),
+        has_cuts=has_cuts,
+        cut=cut,
+        lines=lines,
+        cut_ends=cut_ends,
+        fade_lines=empty if cuts is None else writable(cuts.lines),
+        fade_ends=empty if cuts is None else writable(cuts.ends),
+    )
+    if len(_FACES) >= _FACES_KEPT:
+        _FACES.pop(next(iter(_FACES)))
+    _FACES[id(topology)] = (topology, outline, cuts, m, made)
+    return made

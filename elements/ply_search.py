@@ -27,11 +27,12 @@ answer, bit for bit (the candidates' arithmetic does not depend on which others 
 A cut triangle (elements/ply_wedge.py) is measured to its cut growth, which lies inside its
 grown triangle: where the grown distance is already past U + s >= d* + s, the cut one is too,
 so that triangle is dropped, and leaves d* as it is, unmeasured (the cut growth's closest
-point is numpy, the costliest part of a small search). A few points over a small face
-(points times triangles within ``EVERY_PAIR``: a Static solve's plies, searched again after
-most Newton iterates, benchmarks/ply_relist.py) take the nearest centroid and the pairs within
-the spheres' bound from one matrix of the centroids' distances rather than from k-d trees,
-whose set-up costs more there: the same lists (tests/test_ply_search.py).
+point is numpy, the costliest part of a small search). Points over a face of up to some
+two million pairs (points times triangles within ``EVERY_PAIR``: a Static solve's plies,
+searched again after most Newton iterates, benchmarks/ply_relist.py; the two-ply hemisphere's
+passes) take the nearest centroid and the pairs within the spheres' bound from one matrix of
+the centroids' distances, in compiled passes, rather than from k-d trees, whose set-up costs
+more there: the same lists (tests/test_ply_search.py).
 
 Kept between calls (a Verlet list of skin s). The distance to a set is 1-Lipschitz in the
 point, and moves by at most the largest move of a point of the set; a point of the grown
@@ -94,8 +95,12 @@ EPOCH_SHARE = 0.25
 #: The share of the skin that the bound 2 delta < s keeps for rounding.
 ROUNDING = 1e-3
 #: Points times triangles up to which a search measures every centroid's distance in one
-#: matrix rather than through k-d trees (the same lists: tests/test_ply_search.py).
-EVERY_PAIR = 16384
+#: matrix rather than through k-d trees (the same lists: tests/test_ply_search.py). Since the
+#: matrix's passes are compiled (elements/ply_search_pairs.py) it is the faster up to about
+#: four million pairs (benchmarks/ply_relist.py --crossover, one thread, load 5: 0.79 against
+#: 2.61 ms at 384 x 128, the two-ply hemisphere's upper pass; 4.26 against 8.03 at 1000 x 1152;
+#: 16.5 against 16.2 at 2000 x 2048); its matrix then holds 16 MB.
+EVERY_PAIR = 1 << 21
 
 
 def grown_distance(p: np.ndarray, corners: np.ndarray) -> np.ndarray:
@@ -283,7 +288,10 @@ class FacingSearch:
         """(c,) bool: the triangles ``triangle`` (c,) whose growth has a cut."""
         if self.cuts is None:
             return np.zeros(len(triangle), dtype=bool)
-        return np.any(self.cuts.lines[triangle] != 0.0, axis=(1, 2))
+        # the cuts' own flags, made once (WedgeCuts.cut), where each search gathered its
+        # pairs' lines twice and reduced them (about a fifth of a search of the two-ply
+        # hemisphere's 384 points, benchmarks/ply_relist.py)
+        return self.cuts.cut[triangle]
 
     def near(self, p: np.ndarray, y: np.ndarray) -> np.ndarray:
         """(P, K) int: each point's candidates (rows of y), holding its nearest grown triangle

@@ -158,3 +158,38 @@ def test_the_two_calls_are_built_once_for_read_only_and_writable_faces(monkeypat
         len(kernel.signatures) for kernel in (whole._choice_compiled, whole._sides_fade_compiled)
     ]
     assert built == [1, 1]
+
+
+@pytest.mark.parametrize("kept", [1, 16])
+def test_each_face_takes_its_own_kept_inputs(monkeypatch, kept):
+    """Two cut strips of other shapes faced in turn, A, B, A, B, by the two calls: each call
+    gives its strip's chained Facing to the bit, so a face's kept inputs (its topology's,
+    outline's and cuts' arrays, converted once, elements/ply_facing_whole.py) serve that face
+    alone, both kept or (``_FACES_KEPT`` 1) each dropping the other's; and the faces kept stay
+    at most ``_FACES_KEPT``."""
+    from elements import ply_facing_whole as whole
+
+    monkeypatch.setattr(whole, "_FACES", {})
+    monkeypatch.setattr(whole, "_FACES_KEPT", kept)
+    rng = np.random.default_rng(4)
+    faces = []
+    for share in (0.3, 0.6):
+        nodes, y, outline, cuts = cut_strip(rng, share)
+        topology = FaceTopology.of(nodes, outline)
+        p = rng.uniform([-1.0, -1.2, -0.6], [5.0, 0.9, 0.6], (200, 3))
+        near = np.argsort(rng.uniform(size=(len(p), len(y))), axis=1)
+        faces.append((p, y, near, outline, topology, cuts))
+    assert faces[0][1].shape != faces[1][1].shape or faces[0][4] is not faces[1][4]
+
+    def call(face):
+        p, y, near, outline, topology, cuts = face
+        return closest_facing(
+            p, y, near, 0.0, outline, False, depth=0.4, fade_distance=0.05,
+            topology=topology, cuts=cuts,
+        )  # fmt: skip
+
+    wants = [_both(monkeypatch, lambda face=face: call(face))[1] for face in faces]
+    for face, want in [*zip(faces, wants), *zip(faces, wants)]:
+        assert _differ(call(face), want) == []
+        assert len(whole._FACES) <= kept
+    assert len(whole._FACES) == min(kept, 2)

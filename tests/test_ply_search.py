@@ -251,6 +251,27 @@ def test_a_small_search_lists_as_the_trees_did(seed, cut):
     assert not cut or sum(now) < sum(before)
 
 
+@pytest.mark.parametrize("cut", [False, True], ids=["grown", "cut"])
+def test_a_search_of_the_two_ply_hemispheres_size_lists_as_the_trees_did(cut):
+    """384 points over a crumpled sheet of 8 x 8 cells (128 triangles: the two-ply
+    hemisphere's upper pass, whose full searches took the trees before ``EVERY_PAIR`` was
+    raised), moved over 3 calls by steps of 2 mm: the matrix's search lists the same
+    triangles as the trees' search before (every cut pair measured). The premise: the size is
+    within ``EVERY_PAIR`` now and was past its former 16384."""
+    rng = np.random.default_rng(3)
+    nodes, triangles, _, _, _, search, p = _sheet_and_points(rng, 8, 384, cut)
+    assert 16384 < len(p) * len(triangles) <= ply_search.EVERY_PAIR
+    for call in range(3):
+        nodes = nodes + rng.normal(0.0, 2.0 / 3.0, nodes.shape)
+        p = p + rng.normal(0.0, 2.0 / 3.0, p.shape)
+        y = nodes[triangles]
+        with pytest.MonkeyPatch.context() as patch:
+            near, count = _counted(search, p, y, [], patch)
+        near_before, count_before = _search_as_before(search, p, y, [])
+        assert np.array_equal(count, count_before), call
+        assert np.array_equal(near, near_before), call
+
+
 @pytest.mark.parametrize("epoch_share", [ply_search.EPOCH_SHARE, 10.0])
 def test_a_triangle_that_comes_near_while_the_mean_move_stays_small_joins_the_list(
     epoch_share, monkeypatch
