@@ -182,9 +182,9 @@ def departure(
     anchor when ``history``'s step was accepted and are not ``touching`` (s,) bool now, at
     ``where`` (s, 3) in the tool's frame, mm: the step in which they left the tool. Each
     slid from its ``place`` x_0 to the point of its way where it left the contact surface,
-    x_l = x_0 + theta (x - x_0), theta = p_0 / (p_0 + g) (p_0 its penetration at x_0, g its
-    gap at x, both to the surface of ``block`` now, the one the step's forces take: an
-    augmented contact's moved by its multipliers; the gap taken linear over the step, as a
+    x_l = x_0 + theta (x - x_0), theta = p_0 / (p_0 + g) (p_0 its penetration at x_0, the
+    history's, g its gap at x to the surface p_0 was measured from: an augmented contact's
+    moved by the multipliers the step started with; the gap taken linear over the step, as a
     landing node's, ``start_anchors``), under a normal force falling from k p_0 to 0: its
     slip is its whole tangential offset from its anchor there, |(I - n n^T)(x_l - a)| (n the
     tool's normal at x_l), the stick spring holding nothing at p = 0 (docs/theory.md
@@ -201,9 +201,13 @@ def departure(
     origin = block.tool.offset(0.0)  # (the places and ``where`` are in the tool's frame)
     start, end = place[rows], where[rows]
     d, _ = block.tool.exact_distance(np.concatenate([start, end]) + origin, 0.0)
-    surface = block.surface_offset(history)[rows]
-    p0 = np.maximum(surface - d[: len(rows)], 0.0)
-    gap = np.maximum(d[len(rows) :] - surface, 0.0)
+    # p_0 is the penetration the step started with (its normal force over k): an augmented
+    # contact's surface is where its multipliers put it then, which a Uzawa pass at the end
+    # of the increment may since have moved back (a node off the tool loses its multiplier),
+    # and the surface measured now would give p_0 = 0 there, its anchor's whole offset as
+    # slip and no dissipation: a record depending on whether a pass ran.
+    p0 = history.penetration[rows]
+    gap = np.maximum(d[len(rows) :] - (d[: len(rows)] + p0), 0.0)
     way = p0 + gap
     theta = np.where(way > 0.0, p0 / np.where(way > 0.0, way, 1.0), 0.0)
     left = start + theta[:, None] * (end - start)

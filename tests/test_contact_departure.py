@@ -247,6 +247,40 @@ def test_an_augmented_node_leaves_the_surface_its_multiplier_moves_out():
     assert left.dissipated - history.dissipated == pytest.approx(dissipated, rel=1e-12)
 
 
+def test_an_augmented_node_leaving_after_a_uzawa_pass_dissipates_the_force_it_left_with():
+    """An augmented node held on the plain surface by its multiplier alone (lambda_N = 2 N, k =
+    100 N/mm: the converged Uzawa state, p = 0, the normal force 2 N, so p_0 = lambda_N / k =
+    0.02 mm to its moved surface), at its friction limit, carried 0.2 mm along x and 0.1 mm
+    clear of the plain surface in one increment, whose Uzawa pass (Static's, at the
+    increment's end, before it is accepted) takes its multiplier away: it left at theta =
+    0.02 / 0.12 of its way, slipping mu p_0 + 0.2 theta mm and dissipating mu k p_0 / 2 times
+    that, the plane's figures to 1e-12, as without the pass (measured to the surface after the
+    pass it slipped 0.006 mm, the traction's lambda_T / k_t, and dissipated nothing)."""
+    far = [50.0, 0.0, 50.0]
+    mesh = Mesh(np.array([[0.0, 0.0, 1.0], far]), lines=np.array([[0, 1]]))
+    contact = Contact(
+        RigidPlane((0, 0, 0), (0, 0, 1)),
+        [0],
+        offset=0.5,
+        penalty=100.0,
+        friction=MU,
+        augmented=True,
+    )
+    block = contact.bind(Body.bare(mesh))
+    history = replace(block.initial_history(), multiplier=np.array([2.0]))
+    history = block.update_history(at([0.0, 0.0, 0.5], far), history)  # on the plain surface
+    history = block.update_history(at([0.1, 0.0, 0.5], far), history)  # slides to its limit
+    end = at([0.3, 0.0, 0.62], far)
+    passed, _ = block.augment(end, history)
+    assert passed.multiplier[0] == 0.0  # the premise: the pass took it away
+    slip = MU * 0.02 + 0.2 * 0.02 / 0.12
+    dissipated = MU * 100.0 * 0.5 * 0.02 * slip
+    for before in (history, passed):
+        left = block.update_history(end, before)
+        assert left.slip[0] - history.slip[0] == pytest.approx(slip, rel=1e-12)
+        assert left.dissipated - history.dissipated == pytest.approx(dissipated, rel=1e-12)
+
+
 def at(position, far):
     """A state of a two-node line: node 0 at ``position``, node 1 at ``far``, at rest."""
     zero = np.zeros((2, 3))
