@@ -98,8 +98,9 @@ class Result:
         and plies' Coulomb friction, contact damping; internal is the energy the model
         stores, the internal forces' work less that: kinetic + internal + damping + friction
         = external work, docs/theory.md §6.1 "The energy records").
-        Static: ``{"time", "internal"}``, the strain energy of each frame (time = load
-        factor). Dynamic relaxation: empty.
+        Static: ``{"time", "internal", "friction"}``, the strain energy of each frame and
+        what the interactions' friction dissipated up to it (time = load factor). Dynamic
+        relaxation: empty.
     info : dict[str, Any]
         Solver-specific figures (time step, added mass, iterations per increment, ...).
     has_rotation : numpy.ndarray of bool, shape (n,), optional

@@ -256,9 +256,10 @@ def frame_row(case: Case, frame: Frame) -> dict[str, float]:
 def history_rows(case: Case, result: Result) -> list[dict]:
     """One row per output frame: ``frame`` (its index), the columns of ``frame_row``, then
     ``energy_<key>`` (N mm) for the energies the solver records: per frame (Static: the strain
-    energy ``energy_internal``), or interpolated at the frame times (explicit runs). A streamed
-    explicit run keeps two frames in memory; its rows come from every frame of its series
-    (``result.info["frame_summaries"]``, the solver's ``frame_summary``)."""
+    energy ``energy_internal`` and the friction's dissipation ``energy_friction``), or
+    interpolated at the frame times (explicit runs). A streamed explicit run keeps two frames
+    in memory; its rows come from every frame of its series (``result.info["frame_summaries"]``,
+    the solver's ``frame_summary``)."""
     summaries = result.info.get("frame_summaries")
     if summaries is None:
         summaries = [frame_row(case, frame) for frame in result.frames]

@@ -461,6 +461,7 @@ class StaticRun:
             self.stream = FrameStream(solver.output, model.mesh, model.has_rotation.copy())
             self.stream.write(self.frames[0])
         self.strain_energies = [model.strain_energy(self.state)]  # one per frame, N mm
+        self.dissipations = [model.dissipated_energy(self.state)]  # friction's, N mm
         self.progress = ProgressLine(resolve_progress(solver.progress), "static")
         self.negative: int | None = 0
         # The last converged state is a saddle that no push along its negative modes descends
@@ -747,6 +748,7 @@ class StaticRun:
         """Keep a frame of the last converged state (and write it, with ``output``)."""
         self.frames.append(frame)
         self.strain_energies.append(self.model.strain_energy(self.state))
+        self.dissipations.append(self.model.dissipated_energy(self.state))
         if self.stream is not None:
             self.stream.write(frame)
 
@@ -777,6 +779,7 @@ class StaticRun:
         result.energies = {
             "time": np.array([frame.time for frame in self.frames]),
             "internal": np.array(self.strain_energies),
+            "friction": np.array(self.dissipations),
         }
         self.info["linear_solver"] = {
             "symbolic_factorisations": self.linear.symbolic,
