@@ -110,6 +110,7 @@ __all__ = [
     "jit_lanes",
     "lane_rows",
     "lanes",
+    "plain_part",
     "prange",
     "serial",
     "threads_for",
@@ -636,6 +637,29 @@ def jit_lanes(function):
     if not AVAILABLE:
         return function
     return _Parallel(function, "numpy")
+
+
+def plain_part(kernel):
+    """The plain build of the ``jit`` (or ``jit_lanes``) ``kernel`` as a helper of compiled
+    code that runs the kernel's loop on its own thread (a fused pass): called with the
+    kernel's arguments and two more, the part and the parts (``np.int64(0), np.int64(1)``:
+    the whole loop; int64, not the literals 0 and 1, for which numba would build it again),
+    it is the very build the kernel runs on one thread, compiled once for both callers. A
+    helper compiled apart from the same source (``lanes(function)``) was a second build of
+    the loop, the same machine code: 8.5 s of CPU for the ply contact's eight fused stages
+    on a fresh cache (benchmarks/suite_kernels.py). Where the kernel keeps its whole build
+    (its source unreadable, ``_parted``) or without numba: the kernel's function as such a
+    helper, the part and the parts ignored."""
+    if isinstance(kernel, _Parallel) and kernel.parted:
+        return kernel.serial
+    function = getattr(kernel, "_function", kernel)
+    if not AVAILABLE or isinstance(kernel, _Parallel) and not kernel._native:
+        return lambda *args: function(*args[:-2])
+    names = ", ".join(_arguments(function))
+    whole = njit(function, error_model=getattr(kernel, "_error_model", "python"))
+    namespace: dict = {"whole": whole}
+    exec(f"def whole_loop({names}, {_PART}, {_PARTS}):\n    whole({names})\n", namespace)
+    return numba.njit(namespace["whole_loop"])
 
 
 def serial(function):

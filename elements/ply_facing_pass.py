@@ -6,13 +6,13 @@ point (``ply_choice.choose_facing``) and the chosen candidate's arrays
 candidates' arrays itself, instead of three calls from Python with their conversions and
 allocations.
 
-Each stage is the same loop as its kernel's (the same source, compiled here to run on the
-calling thread), so the arrays are the same to the last bit as the three kernels'
-(tests/test_ply_facing_pass.py compares them on cut strips and the two-ply
-hemisphere's states). For a loop of ``SMALL_LOOP`` points or more, which the three kernels
-run on several threads, ``closest_facing`` calls them as before; without the gap's Hessian
-(the explicit step's facings) it takes elements/ply_facing_whole.py, which runs these stages
-and the sides and the fade in two calls.
+Each stage is its kernel's own plain build, its whole loop on the calling thread
+(elements/jit.py ``plain_part``: one build for the kernel and this pass), so the arrays are the
+same to the last bit as the three kernels' (tests/test_ply_facing_pass.py compares them on cut
+strips and the two-ply hemisphere's states). For a loop of ``SMALL_LOOP`` points or more, which
+the three kernels run on several threads, ``closest_facing`` calls them as before; without the
+gap's Hessian (the explicit step's facings) it takes elements/ply_facing_whole.py, which runs
+these stages and the sides and the fade in two calls.
 
 On the report's two-ply hemisphere (384 and 81 points of some five candidates), the three
 calls took 67-69 us a block-step, 46-47 of them their kernels'; the one call 46-47, 37 of
@@ -23,19 +23,19 @@ from __future__ import annotations
 
 import numpy as np
 
-from elements.jit import lanes
+from elements import ply_choice, ply_chosen, ply_kernels
+from elements.jit import lanes, plain_part
 from elements.kernel_inputs import read_only
-from elements.ply_choice import _choose, choice_arrays, choice_returned, cut_arrays
-from elements.ply_chosen import _chosen, chosen_arrays
-from elements.ply_kernels import _facets_at
+from elements.ply_choice import choice_arrays, choice_returned, cut_arrays
+from elements.ply_chosen import chosen_arrays
 
 __all__ = ["facing_choice"]
 
-# the stages' loops on the calling thread (their prange a range): the same operations in the
-# same order as their parallel builds' (IEEE, no fastmath), so the same bits
-_facets_here = lanes(_facets_at)
-_choose_here = lanes(_choose)
-_chosen_here = lanes(_chosen)
+# the stages' loops on the calling thread: their kernels' own plain builds, each loop whole
+# (part 0 of 1), so the same bits, and one build of each for this pass and the kernel
+_facets_here = plain_part(ply_kernels._facets_at_compiled)
+_choose_here = plain_part(ply_choice._choose_compiled)
+_chosen_here = plain_part(ply_chosen._chosen_compiled)
 
 
 def _facing(
@@ -58,7 +58,7 @@ def _facing(
     past = np.empty((count, k))
     _facets_here(
         p, y, near, outline, margin, tolerance, n, np.empty((count, k)), gradients, gap,
-        weights, reach, inside, past,
+        weights, reach, inside, past, np.int64(0), np.int64(1),
     )  # fmt: skip
     _choose_here(
         p, y, near, n, gradients, gap, weights, reach, inside, past, has_cuts, cut, lines,
@@ -66,11 +66,12 @@ def _facing(
         np.empty((count, k), dtype=np.bool_), np.empty((count, k), dtype=np.bool_),
         np.empty((count, k)), np.empty((count, k, 3)), np.empty((count, k), dtype=np.bool_),
         np.empty((count, k, 2, 3)), np.empty((count, k)), np.empty((count, 3, 3)),
-        np.empty((count, 3)),
+        np.empty((count, 3)), np.int64(0), np.int64(1),
     )  # fmt: skip
     _chosen_here(
         best, near, n, gap, weights, gradients, reach, toward, has_toward, triangle,
         chosen_gap, normal, lam, chosen_gradients, chosen_reach, overshoot, reached, turned,
+        np.int64(0), np.int64(1),
     )  # fmt: skip
 
 

@@ -11,13 +11,13 @@ made the same stages in four compiled calls (``facing_choice``, ``edge_sides``' 
 gathers, the working arrays and the planes' copies, about half of its time on the two-ply
 hemisphere (benchmarks/ply_chain_parts.py).
 
-Each stage runs its kernel's own loop on the calling thread (the same source, IEEE, no
-fastmath), so every array of the facing is the same to the last bit as the chained calls'
-(tests/test_ply_facing_whole.py); ``arctan2`` stays numpy's (elements/ply_edge_kernels.py
-says why). ``closest_facing`` takes this path for fewer than ``SMALL_LOOP`` points without
-the gap's Hessian; where the outline's nearest edges would be measured against more than
-``ply_fade.EVERY_PAIR`` pairs, the second call leaves the fade to ``outline_fade_at`` with
-the KD-tree's edges, as before.
+Each stage runs its kernel's own plain build on the calling thread (elements/jit.py
+``plain_part``; IEEE, no fastmath), so every array of the facing is the same to the last bit as
+the chained calls' (tests/test_ply_facing_whole.py); ``arctan2`` stays numpy's
+(elements/ply_edge_kernels.py says why). ``closest_facing`` takes this path for fewer than
+``SMALL_LOOP`` points without the gap's Hessian; where the outline's nearest edges would be
+measured against more than ``ply_fade.EVERY_PAIR`` pairs, the second call leaves the fade to
+``outline_fade_at`` with the KD-tree's edges, as before.
 """
 
 from __future__ import annotations
@@ -26,26 +26,27 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from elements.jit import lanes
+from elements import ply_edge_kernels, ply_fade_kernels
+from elements.jit import lanes, plain_part
 from elements.kernel_inputs import read_only, writable
 from elements.ply_choice import choice_arrays, cut_arrays
 from elements.ply_chosen import chosen_arrays
-from elements.ply_edge_kernels import _parts, _sides
 from elements.ply_facing_pass import _facing
 from elements.ply_fade import EVERY_PAIR, fade_length, nearest_segments
-from elements.ply_fade_kernels import _outline, outline_fade_at
+from elements.ply_fade_kernels import outline_fade_at
 from elements.ply_projection import INSIDE, MARGIN, Facing
 from elements.ply_topology import FaceTopology
 from elements.ply_wedge import KEEP, WedgeCuts
 
 __all__ = ["whole_facing"]
 
-# the stages' loops on the calling thread (their prange a range): the same operations in the
-# same order as their kernels' builds (IEEE, no fastmath), so the same bits
+# the stages' loops on the calling thread: ply_facing_pass's pass, and the kernels' own plain
+# builds, each loop whole (part 0 of 1, ``plain_part``), so the same bits and one build each
+# (its flags given as np.bool_, not the literal True, for which numba would build it again)
 _facing_here = lanes(_facing)
-_parts_here = lanes(_parts)
-_sides_here = lanes(_sides)
-_outline_here = lanes(_outline)
+_parts_here = plain_part(ply_edge_kernels._parts_compiled)
+_sides_here = plain_part(ply_edge_kernels._sides_compiled)
+_outline_here = plain_part(ply_fade_kernels._outline_compiled)
 _TINY = float(np.finfo(float).tiny)  # ply_kernels.segment_lines' least |b - a|^2
 
 
@@ -67,7 +68,7 @@ def _choice(
     )  # fmt: skip
     _parts_here(
         on_edge, triangle, y, nodes, fans, chosen_gradients, closest, chosen_reach, inside,
-        on_q, rise, run,
+        on_q, rise, run, np.int64(0), np.int64(1),
     )  # fmt: skip
     for i in range(near.shape[0]):
         plane_gap[i] = chosen_gap[i]
@@ -96,9 +97,9 @@ def _sides_fade(
     count = p.shape[0]
     _sides_here(
         p, y, on_edge, closest, on_cut, triangle, gap, normal, lam, reach, reached, turned,
-        overshoot, nodes, fans, edges, edge_halves, other, outline, True, rim, inside,
+        overshoot, nodes, fans, edges, edge_halves, other, outline, np.bool_(True), rim, inside,
         angles, on_q, depth, tolerance, margin, np.empty((count, 3)), joined, at_rim, tiny,
-        on_growth, beside, near_outline, touching,
+        on_growth, beside, near_outline, touching, np.int64(0), np.int64(1),
     )  # fmt: skip
     near = 0
     for i in range(count):
@@ -130,11 +131,11 @@ def _sides_fade(
         squared[s] = value if (value != value or value > _TINY) else _TINY
     _outline_here(
         at, p, y, triangle, plane_normal, gradients, plane_gap, plane_lam, reach, on_growth,
-        joined, True, np.zeros(near, dtype=np.int64), starts, e, squared, ends, has_cuts,
+        joined, np.bool_(True), np.zeros(near, dtype=np.int64), starts, e, squared, ends, has_cuts,
         lines, cut_ends, inside, keep, length, length_squared, fade, fade_gradient,
         fade_edge, np.empty((near, 3)), np.empty((near, 3, 3)), np.empty((near, 3)),
         np.empty((near, 2, 3)), np.empty((near, 4, 3)), np.empty((near, 4, 3)),
-        np.empty((near, 4, 3)),
+        np.empty((near, 4, 3)), np.int64(0), np.int64(1),
     )  # fmt: skip
     for i in range(count):
         touching[i] = touching[i] and fade[i] > 0.0

@@ -5,9 +5,9 @@ serves), the anchors moved and re-expressed (``_moved``) and the next loads' ret
 from the new history, back to back on the calling thread, where ``updated_history`` made
 three compiled calls with their arguments' conversions and outputs between them.
 
-Each stage runs its kernel's own loop (the same source, IEEE, no fastmath), so the history and
-both mappings are the same to the last bit as the three calls' (tests/test_ply_friction_pass.py);
-the dissipation's sum stays numpy's (its pairwise order).
+Each stage runs its kernel's own plain build (elements/jit.py ``plain_part``; IEEE, no
+fastmath), so the history and both mappings are the same to the last bit as the three calls'
+(tests/test_ply_friction_pass.py); the dissipation's sum stays numpy's (its pairwise order).
 """
 
 from __future__ import annotations
@@ -17,10 +17,11 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from elements.jit import lanes
+from elements import ply_friction_kernels
+from elements.jit import lanes, plain_part
 from elements.kernel_inputs import read_only, writable
 from elements.ply_friction import Sliding
-from elements.ply_friction_kernels import _moved, _return_mapping, _sliding_arrays
+from elements.ply_friction_kernels import _sliding_arrays
 
 if TYPE_CHECKING:
     from elements.ply_block import PlyContactBlock
@@ -28,9 +29,10 @@ if TYPE_CHECKING:
 
 __all__ = ["history_pass"]
 
-# the stages' loops on the calling thread (their prange a range): the same bits
-_mapping_here = lanes(_return_mapping)
-_moved_here = lanes(_moved)
+# the stages' loops on the calling thread: the kernels' own plain builds, each loop whole
+# (part 0 of 1, ``plain_part``), so the same bits and one build each
+_mapping_here = plain_part(ply_friction_kernels._return_mapping_compiled)
+_moved_here = plain_part(ply_friction_kernels._moved_compiled)
 
 
 def _history(
@@ -48,17 +50,19 @@ def _history(
         _mapping_here(
             touching, gap, stiffness, smoothing, fade, bounded, normal_law, potential,
             friction, last_triangle, last_anchor, face, normal, y, force, slip, stuck,
-            sliding, pressing, offset, mapped_triangle, spring, lift, stored,
+            sliding, pressing, offset, mapped_triangle, spring, lift, stored, np.int64(0),
+            np.int64(1),
         )  # fmt: skip
     _moved_here(
         touching, facing_triangle, facing_weights, gradients, gap, normal, y, friction, slip,
         stuck, sliding, pressing, offset, spring, last_triangle, last_anchor, last_slip,
-        last_pressing, triangle, anchor, slipped, dissipation,
+        last_pressing, triangle, anchor, slipped, dissipation, np.int64(0), np.int64(1),
     )  # fmt: skip
     _mapping_here(
         touching, gap, stiffness, smoothing, fade, bounded, normal_law, potential, friction,
         triangle, anchor, face, normal, y, next_force, next_slip, next_stuck, next_sliding,
         next_pressing, next_offset, next_triangle, next_spring, next_lift, next_stored,
+        np.int64(0), np.int64(1),
     )  # fmt: skip
 
 

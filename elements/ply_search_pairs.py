@@ -20,6 +20,7 @@ from __future__ import annotations
 import numpy as np
 
 from elements.jit import serial
+from elements.kernel_inputs import read_only
 
 __all__ = ["bounded_pairs", "kept_pairs", "lists_of"]
 
@@ -84,7 +85,7 @@ def bounded_pairs(here: np.ndarray, y: np.ndarray, corners: np.ndarray, skin: fl
     apart, loose, slack = np.empty((count, m)), np.empty(count), np.empty(count)
     pairs = _spheres(
         here,
-        np.ascontiguousarray(y, dtype=float),
+        read_only(y),  # as the block keeps them (a caller's own y too): one build
         np.ascontiguousarray(corners, dtype=float),
         float(skin),
         centroids,

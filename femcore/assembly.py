@@ -372,6 +372,19 @@ def _node_blocks(part: SparseTangent, n_nodes: int) -> sp.bsr_matrix:
     return sp.bsr_matrix(matrix, blocksize=(6, 6))
 
 
+def kernel_nodes(nodes: np.ndarray) -> np.ndarray:
+    """A tangent part's ``nodes`` (m, p) as the compiled passes take them: C-contiguous int64,
+    read-only (a view where the caller's array is writable; no copy where it is C-contiguous
+    int64). A block's connectivity is kept read-only, the nodes of a contact's or a patch's
+    part are fresh, and numba builds a kernel once for each flag: one build for both."""
+    nodes = np.ascontiguousarray(nodes, dtype=np.int64)
+    if not nodes.flags.writeable:
+        return nodes
+    view = nodes.view()
+    view.flags.writeable = False
+    return view
+
+
 def _check_nodes(parts: list[CellTangent], n_nodes: int) -> None:
     """Raises ValueError where a part's node array (m, p) holds an index outside
     [0, n_nodes): one min and one max per part."""
@@ -681,7 +694,7 @@ class FreeTangentAssembler:
             if compiled:
                 _add_cell_blocks_compiled(
                     np.ascontiguousarray(part.blocks, dtype=float),
-                    np.ascontiguousarray(part.nodes, dtype=np.int64),
+                    kernel_nodes(part.nodes),
                     maps,
                     pairs,
                     *self._tables,

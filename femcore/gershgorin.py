@@ -29,7 +29,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from femcore import kernel_cache
-from femcore.assembly import CellTangent, TangentPart, generalised_sparse
+from femcore.assembly import CellTangent, TangentPart, generalised_sparse, kernel_nodes
 
 __all__ = ["banded_piece", "gershgorin_largest"]
 
@@ -313,7 +313,7 @@ def _piece_sums(
     sums: ``start(keys)`` (the pairs' sums so far, 0 where none) plus the piece's generalised
     5 x 5 blocks in their order."""
     if isinstance(piece, CellTangent):
-        nodes = np.ascontiguousarray(piece.nodes, dtype=np.int64)
+        nodes = kernel_nodes(piece.nodes)
         flat = (nodes[:, :, None] * n_nodes + nodes[:, None, :]).ravel()
         keys, pair_of = np.unique(flat, return_inverse=True)
         blocks = np.ascontiguousarray(piece.blocks, dtype=np.float64)

@@ -393,3 +393,29 @@ def test_the_kept_structures_stored_zeros_factorise_as_the_exact_structure():
         assert np.max(np.abs(kx - expected)) <= 1e-10 * np.max(np.abs(expected))
     assert kept.builds == 2 and exact.builds == 3
     assert k_ff.nnz > e_ff.nnz  # the last K_ff holds stored zeros
+
+
+def test_the_compiled_passes_are_built_once_for_read_only_and_writable_nodes():
+    """A block's connectivity is kept read-only, a contact's or a patch's nodes are fresh and
+    writable: the assembler's scatter and the Gershgorin bound's pair sums take both as one
+    type (femcore/assembly.py ``kernel_nodes``), so numba builds each kernel once for them
+    (a read-only and a writable build of each before: benchmarks/suite_signatures.py on a
+    whole run's cache). Reference: numba's record of its builds; no tolerance."""
+    from femcore import assembly, gershgorin
+
+    scatter, sums = assembly._add_cell_blocks_compiled, gershgorin._pair_sums
+    if scatter is None or not hasattr(sums, "signatures"):
+        pytest.skip("numba is not installed")
+    dofs = one_rotation_prescribed()
+    maps = dofs.node_maps(dofs.frames(np.tile([0.0, 0.0, 1.0], (N, 1))))
+    blocks = np.random.default_rng(4).normal(size=(2, 3, 3, 6, 6))
+    kept = np.array([[0, 1, 2], [3, 2, 1]])
+    kept.setflags(write=False)
+    before = len(scatter.signatures), len(sums.signatures)
+    for nodes in (kept, kept.copy()):
+        assert nodes.flags.writeable == (nodes is not kept)
+        part = CellTangent(nodes, blocks)
+        FreeTangentAssembler(dofs)([part], dofs.frames(np.tile([0.0, 0.0, 1.0], (N, 1))))
+        gershgorin._piece_sums(part, maps, N, lambda keys: np.zeros((len(keys), 5, 5)))
+    added = len(scatter.signatures) - before[0], len(sums.signatures) - before[1]
+    assert added[0] <= 1 and added[1] <= 1, added

@@ -16,9 +16,14 @@ from test_ply_wedge import _fan
 from elements import (
     jit,
     ply_choice,
+    ply_chosen,
     ply_edge_kernels,
     ply_face_points,
+    ply_facing_pass,
+    ply_facing_whole,
     ply_fade_kernels,
+    ply_friction_kernels,
+    ply_friction_pass,
     ply_kernels,
     ply_load_kernels,
     ply_projection,
@@ -109,6 +114,43 @@ def test_each_ply_kernel_is_built_once_for_read_only_and_writable_inputs(monkeyp
     built = {name: len(_signatures(kernel)) for name, kernel in KERNELS.items()}
     added = {name: built[name] - before[name] for name in KERNELS}
     assert all(count >= 1 for count in built.values()), built
+    assert all(count <= 1 for count in added.values()), added
+
+
+def test_the_fused_passes_run_the_kernels_own_plain_builds(monkeypatch):
+    """The fused passes (elements/ply_facing_pass.py, ply_facing_whole.py,
+    ply_friction_pass.py) run each stage by its kernel's own plain build (elements/jit.py
+    ``plain_part``), with argument types the kernel's wrapper gives it: the fan faced by
+    the fused pass (a small facing without the gap's Hessian) and then by the chained
+    kernels adds at most one build to each. A helper compiled apart from the same source was
+    a second build of each of the eight loops (8.5 s of CPU from an empty cache,
+    benchmarks/suite_kernels.py); a literal True given for a flag built a callee again."""
+    fused = {
+        "planes": (ply_facing_pass._facets_here, ply_kernels._facets_at_compiled),
+        "choose": (ply_facing_pass._choose_here, ply_choice._choose_compiled),
+        "chosen": (ply_facing_pass._chosen_here, ply_chosen._chosen_compiled),
+        "edge parts": (ply_facing_whole._parts_here, ply_edge_kernels._parts_compiled),
+        "edge sides": (ply_facing_whole._sides_here, ply_edge_kernels._sides_compiled),
+        "fade pass": (ply_facing_whole._outline_here, ply_fade_kernels._outline_compiled),
+        "mapping": (
+            ply_friction_pass._mapping_here,
+            ply_friction_kernels._return_mapping_compiled,
+        ),
+        "moved": (ply_friction_pass._moved_here, ply_friction_kernels._moved_compiled),
+    }
+    for name, (stage, kernel) in fused.items():
+        assert stage is kernel.serial, name
+    monkeypatch.setattr(ply_projection, "COMPILED", True)
+    facing = {name: kernel for name, (_, kernel) in list(fused.items())[:6]}
+    before = {name: len(_signatures(kernel)) for name, kernel in facing.items()}
+    block, positions, directors, _ = _fan()
+    zero = np.zeros_like(positions[0])
+    state = State(positions[700], directors, zero, zero)
+    assert block.facing(state).touching.any()  # fused (elements/ply_facing_whole.py)
+    monkeypatch.setattr(ply_projection, "SMALL_LOOP", 0)
+    block._facing_at = None
+    block.facing(state, second=True)  # the kernels one by one
+    added = {name: len(_signatures(kernel)) - before[name] for name, kernel in facing.items()}
     assert all(count <= 1 for count in added.values()), added
 
 

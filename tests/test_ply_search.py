@@ -17,6 +17,7 @@ from scipy.spatial import cKDTree
 
 from elements import ply_search
 from elements.facet_search import closest_on_triangles
+from elements.kernel_inputs import read_only
 from elements.layup import Layup
 from elements.ply_projection import MARGIN, closest_facing, edge_ids, grown_corners, open_edges
 from elements.ply_search import FacingSearch
@@ -375,9 +376,11 @@ def test_the_compiled_lists_move_is_the_grown_corners_largest(seed):
     move = y - epoch  # as FacingSearch.near forms it (the rounding of y - (y - move))
     p = rng.normal(size=(5, 3))
     shift, drift = np.empty(3), np.empty(len(p))
+    # y and p read-only, as the search hands them (the kernel's one build)
     moved = ply_search._moves_compiled(
-        y, epoch, reach, p, p.copy(), np.zeros((5, 3)), np.zeros(5), shift, drift
-    )
+        read_only(y), epoch, reach, read_only(p), p.copy(), np.zeros((5, 3)), np.zeros(5),
+        shift, drift,
+    )  # fmt: skip
     mean = move.reshape(-1, 3).mean(axis=0)
     grown = ply_search.grown_moves(move - mean, reach)
     assert moved == np.max(grown)
