@@ -208,6 +208,7 @@ def _search_as_before(search: FacingSearch, p: np.ndarray, y: np.ndarray, measur
 
     with pytest.MonkeyPatch.context() as patch:
         patch.setattr(ply_search, "EVERY_PAIR", 0)
+        patch.setattr(ply_search, "EVERY_PAIR_NUMPY", 0)
         patch.setattr(FacingSearch, "_distances", every_cut)
         return _counted(search, p, y, measured, patch)
 
