@@ -248,10 +248,12 @@ class HistoryWriter:
 #: (8 bytes, little-endian) and the pickled payload. The number is the format's: 3 since the
 #: energy records' "internal" became the stored energy (docs/theory.md §6.1, "The energy
 #: records"), 4 since a tool contact's landing node is anchored where its way touched the
-#: surface (docs/theory.md §9.2; its history no longer keeps the approach's gap), so that a
-#: run resumed from an older checkpoint cannot change its meaning midway.
+#: surface (docs/theory.md §9.2; its history no longer keeps the approach's gap), 5 since a
+#: ply contact's landing point is anchored where its way crossed the lower face (§9.2,
+#: §9.3a; its history's sides serve as the place it came from), so that a run resumed from an
+#: older checkpoint cannot change its meaning midway.
 CHECKPOINT_PREFIX = b"fibreshell checkpoint "
-CHECKPOINT_FORMAT = 4
+CHECKPOINT_FORMAT = 5
 CHECKPOINT_MAGIC = CHECKPOINT_PREFIX + f"{CHECKPOINT_FORMAT}\n".encode()
 
 
