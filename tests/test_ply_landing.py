@@ -214,3 +214,22 @@ def test_a_point_touching_at_the_last_state_without_an_anchor_does_not_land():
     facing = block.facing(state)
     assert ply_landing.landing(block, state, kept, facing) is None
     assert ply_landing.landed(block, state, kept, facing) is kept
+
+
+def test_a_frictionless_contact_never_asks_for_a_landing(monkeypatch):
+    """Frictionless plies (the report's plies-bai-5.1, deck and heavy-stack cases) take the
+    code path they took before: no landing is asked for by their loads, energy, tangent or
+    accepted history."""
+
+    def refused(*args, **kwargs):
+        raise AssertionError("a frictionless contact asked for a landing")
+
+    monkeypatch.setattr(ply_landing, "landing", refused)
+    monkeypatch.setattr(ply_landing, "landed", refused)
+    block, state, _ = plies(rule="gauss", smoothing=0.05)
+    history = block.initial_history()
+    assert block.facing(state).touching.any()
+    block.internal_force(state, history)
+    block.strain_energy(state, history)
+    block.tangent(state, history)
+    block.update_history(state, history)
