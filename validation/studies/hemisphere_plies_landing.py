@@ -12,7 +12,8 @@ Per accepted step (the explicit commit, ``PlyContactBlock.update_history``) the 
 side passes from not touching to touching are counted as landings and back as leaves; for each
 landing point the rule's theta, the length of its way over the step on the plane of the
 triangle it faces (|sum_k (Lambda_k - Lambda_0,k) y_k|), its slip |s| from the landing anchor
-after the return mapping and its normal force N; the landing step's friction work is
+after the return mapping and the cosine of s with the way's tangential part (friction acts
+against -s) and its normal force N; the landing step's friction work is
 mu (0 + N) / 2 times the slip past the stick limit (the accepted history's rule). Measured:
 docs/theory.md §9.3a, "A point's landing step".
 """
@@ -42,6 +43,7 @@ class _Probe:
         self.theta: list[np.ndarray] = []
         self.way: list[np.ndarray] = []
         self.slip: list[np.ndarray] = []
+        self.cosine: list[np.ndarray] = []
         self.work = 0.0
         self._landing = ply_landing.landing
         self._landed = ply_landing.landed
@@ -59,6 +61,11 @@ class _Probe:
             _, y = block._faces(state)
             way = np.einsum("rk,rki->ri", found.rate, y[facing.triangle[rows]])
             slip = np.linalg.norm(sliding.slip[rows], axis=1)
+            n = facing.normal[rows]
+            along = way - np.sum(way * n, axis=1)[:, None] * n  # the way's tangential part
+            size = np.linalg.norm(along, axis=1) * slip
+            cosine = np.sum(along * sliding.slip[rows], axis=1) / np.where(size > 0, size, 1.0)
+            self.cosine.append(cosine[size > 1e-12])
             limit = block.friction * sliding.pressing[rows]
             spring = np.where(sliding.spring[rows] > 0, sliding.spring[rows], 1.0)
             past = np.where(sliding.sliding[rows], slip - limit / spring, 0.0)
@@ -130,6 +137,11 @@ def main() -> None:
             f"{np.sum(theta == 0.0)}; way at most {way.max():.4f} mm (mean {way.mean():.5f}); "
             f"slip at most {slip.max():.4f} mm (mean {slip.mean():.5f}); their friction work "
             f"{probe.work:.3f} N mm"
+        )
+        cosine = np.concatenate(probe.cosine)
+        print(
+            f"  the slip along the way's tangential part: cosine at least {cosine.min():.4f}, "
+            f"below 0.99 in {np.sum(cosine < 0.99)} of {len(cosine)}"
         )
 
 
