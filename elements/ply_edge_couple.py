@@ -174,6 +174,7 @@ def edge_couple_tangent(
     ds: np.ndarray,
     spring: np.ndarray,
     d_spring: np.ndarray,
+    moving: np.ndarray | None = None,
 ) -> np.ndarray:
     """The exact derivative (t, 9, 3, 9, 3) of the couple C_w (``edge_couple``, on the slots
     w = 0..3 of z = (p, y_f1..3, y_a1..3, a, b)) over z.
@@ -190,7 +191,9 @@ def edge_couple_tangent(
     n . dr (dr/dp = I, dr/dy_ak = -Lambda_k I).
 
     gap g (t,) mm, normal n, offset r, slip s (t, 3) mm; big (t, 3) the anchor's Lambda; ds
-    (t, 3, 9, 3) ds/dz; spring k_t (t,) N/mm and d_spring (t, 9, 3) dk_t/dz, N/mm^2.
+    (t, 3, 9, 3) ds/dz; spring k_t (t,) N/mm and d_spring (t, 9, 3) dk_t/dz, N/mm^2; moving
+    (t, 3, 9, 3) a landing anchor's dr/dz beyond -Lambda_k I (elements/ply_landing.py), None:
+    none.
     """
     f = features
     count = len(gap)
@@ -220,6 +223,8 @@ def edge_couple_tangent(
     d_along = np.einsum("ti,tivj->tvj", offset, dn)
     d_along[:, 0] += normal
     d_along[:, 4:7] -= big[:, :, None] * normal[:, None, :]
+    if moving is not None:
+        d_along += np.einsum("ti,tivj->tvj", normal, moving)
     points = np.zeros((count, 9, 3, 9, 3))
     for w in range(4):
         a_w, m_w = f.a[:, w], f.m[:, w]

@@ -52,7 +52,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from elements import ply_edge_couple_kernels, ply_projection, ply_surface
+from elements import ply_edge_couple_kernels, ply_landing, ply_projection, ply_surface
 from elements.ply_edge_couple import edge_couple, edge_couple_tangent, edge_features
 from elements.ply_fade_hessian import plane_hessian
 from elements.ply_projection import penalty_law, triangle_frames
@@ -399,7 +399,11 @@ def friction_tangent(
     -lambda_k n, 0); and a stuck point's stick potential beyond F (``friction_loads``: lift
     dg/dz + stored dw/dz and the couple), its derivative from ``_potential_tangent``,
     ``_couple_tangent`` and ``edge_couple_tangent``. Carried to the nodes
-    and turned with the directors as the normal part (``tangent``)."""
+    and turned with the directors as the normal part (``tangent``). A point landing in this
+    step (elements/ply_landing.py) has its anchor on the facing triangle moving with z: its
+    dLambda/dz adds -sum_k y_k dLambda_k/dz to dr/dz and -dLambda_k/dz F to the corners'."""
+    found = ply_landing.landing(block, state, history, facing)
+    history = ply_landing.landed(block, state, history, facing, found)
     sliding = friction_state(block, state, history, facing)
     on = np.flatnonzero(sliding.stuck | sliding.sliding)
     t = len(on)
@@ -434,6 +438,14 @@ def friction_tangent(
     gap_gradient = np.zeros((t, 9, 3))
     gap_gradient[:, 0] = n
     gap_gradient[:, 1:4] = -lam[:, :, None] * n[:, None, :]
+    moving = None  # a landing anchor's dr/dz beyond -Lambda_k I on y_ak
+    if found is not None:
+        lands = np.searchsorted(on, found.rows)  # (every landing point touches: in ``on``)
+        motion = found.anchor_motion(gap_gradient[lands, :4])  # (r, 3, 4, 3)
+        _, y = block._faces(state)
+        moving = np.zeros((t, 3, 9, 3))
+        moving[lands, :, :4] = -np.einsum("rki,rkzb->rizb", y[facing.triangle[found.rows]], motion)
+        ds += np.einsum("tij,tjzb->tizb", across, moving)
     _, slope, curvature = block.normal_law(facing.gap[on], k)
     d_pressing = -curvature[:, None, None] * gap_gradient  # (t, 9, 3)
     unfaded, spring_slope = _spring(block, facing.gap[on], k)
@@ -462,6 +474,8 @@ def friction_tangent(
     points[:, 0] = d_force
     for m in range(3):
         points[:, 4 + m] = -big[:, m, None, None, None] * d_force
+        if found is not None:
+            points[lands, 4 + m, :, :4] -= force[lands][:, :, None, None] * motion[:, m, None]
     fading = np.zeros((t, 9, 3))  # dw/dz over the 9 slots (0 without a fade)
     if facing.fade_gradient is not None:
         fading[:, :4] = facing.fade_gradient[on][:, :4]
@@ -486,6 +500,7 @@ def friction_tangent(
         points[turns] += _couple_tangent(
             n[turns], r[turns], s[turns], grad[turns], big[turns], ds[turns],
             turning[turns], spring[turns], d_spring[turns], couple[turns],
+            None if moving is None else moving[turns],
         )  # fmt: skip
     edges = np.flatnonzero(stuck & facing.on_edge[on]) if facing.on_edge is not None else on[:0]
     turned = np.zeros((t, 4, 3))
@@ -498,6 +513,7 @@ def friction_tangent(
         points[edges] += edge_couple_tangent(
             features, facing.gap[at], n[edges], r[edges],
             s[edges], big[edges], ds[edges], spring[edges], d_spring[edges],
+            None if moving is None else moving[edges],
         )  # fmt: skip
         turned[edges] = edge_couple(features, facing.gap[at], n[edges], r[edges], force[edges])
     ends, ends_offset = block.fade_ends(facing, on)
@@ -619,6 +635,7 @@ def _couple_tangent(
     spring: np.ndarray,
     d_spring: np.ndarray,
     couple: np.ndarray,
+    moving: np.ndarray | None = None,
 ) -> np.ndarray:
     """The derivative (h, 9, 3, 9, 3) of the stuck points' couple c_m n on the facing
     corners (``stick_couple``: c_m = k_t (n . r)(s . grad phi_m)) over z = (p, y_f1..3,
@@ -632,7 +649,8 @@ def _couple_tangent(
     n, r, s (h, 3): the facing normal, r = p - a and s, mm; grad (h, 3, 3) the facing
     triangle's gradients g_m, 1/mm; big (h, 3) the anchor's Lambda; ds (h, 3, 9, 3) ds/dz;
     turning (h, 4, 3, 3) dn/dz over (p, y_f1..3), 1/mm; spring k_t (h,) N/mm; d_spring
-    (h, 9, 3) dk_t/dz, N/mm^2; couple c_m (h, 3), N.
+    (h, 9, 3) dk_t/dz, N/mm^2; couple c_m (h, 3), N; moving (h, 3, 9, 3) a landing
+    anchor's dr/dz beyond -Lambda_k I on y_ak (elements/ply_landing.py), None: none.
     """
     count = len(n)
     along = np.sum(n * r, axis=1)  # n . r, mm
@@ -641,6 +659,8 @@ def _couple_tangent(
     d_along[:, 0] = n
     d_along[:, 1:4] = np.einsum("ti,twij->twj", r, turning[:, 1:4])
     d_along[:, 4:7] = -big[:, :, None] * n[:, None, :]
+    if moving is not None:
+        d_along += np.einsum("ti,tizb->tzb", n, moving)
     d_across = np.einsum("tmi,tizb->tmzb", grad, ds)
     for k in range(3):
         d_across[:, :, 1 + k, :] -= across[:, k, None, None] * grad
@@ -692,7 +712,9 @@ def updated_history(
     projections, lost ones forget their anchor; the dissipation adds mu N_mid times the
     slip, N_mid the mean of the last accepted and this normal force. ``facing`` the state's
     (with the points kept off their faces not touching, elements/ply_sides.py; the block's
-    when None), ``sides`` the points' sides there, kept in the new history."""
+    when None), ``sides`` the points' sides there, kept in the new history. The block hands
+    it a history whose points landing in this step are anchored where their way crossed the
+    face (elements/ply_landing.py ``landed``): they are stuck or sliding, not new contacts."""
     if history is None:
         return None
     facing = block.facing(state) if facing is None else facing

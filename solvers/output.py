@@ -250,10 +250,12 @@ class HistoryWriter:
 #: records"), 4 since a tool contact's landing node is anchored where its way touched the
 #: surface (docs/theory.md §9.2; its history no longer keeps the approach's gap), 5 since a
 #: node leaving a tool dissipates its slip up to where it left (docs/theory.md §9.2; its
-#: history keeps each anchored node's place), so that a run resumed from an older checkpoint
-#: cannot change its meaning midway.
+#: history keeps each anchored node's place), 6 since a ply contact's landing point is
+#: anchored where its way crossed the lower face (§9.3a; its history's sides serve as the place
+#: it came from), so that a run resumed from an older checkpoint cannot change its meaning
+#: midway.
 CHECKPOINT_PREFIX = b"fibreshell checkpoint "
-CHECKPOINT_FORMAT = 5
+CHECKPOINT_FORMAT = 6
 CHECKPOINT_MAGIC = CHECKPOINT_PREFIX + f"{CHECKPOINT_FORMAT}\n".encode()
 
 

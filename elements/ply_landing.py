@@ -1,0 +1,191 @@
+"""Where a ply contact point that lands in a step is anchored for that step (PlyContact with
+``friction`` > 0; docs/theory.md §9.2 and §9.3a, "Friction between plies").
+
+A point that had no stick anchor at the last accepted state (it was not touching) and touches
+now takes as its anchor, for this step, the place of the lower face where its way crossed it,
+so that only its tangential motion since the touch is friction's slip (the tool contact's rule,
+elements/contact_history.py ``start_anchors``). The place is relative to the lower ply (which
+moves too): on the plane of the triangle T the point faces now, the barycentric place of the
+point's projection at the last accepted state (its face point p_0 on T's corners then, the
+history's sides keep both, elements/ply_sides.py) and now (p on T's corners now),
+
+    Lambda_a = Lambda_0 + theta (Lambda - Lambda_0),   theta = g_0 / (g_0 + pen),
+
+g_0 = max(n_0 . (p_0 - y_0), 0) the point's gap to T's plane then, pen = max(-g, 0) its
+penetration now (the normal law's gap g), the gap taken linear over the step. Exact for a flat
+lower face, a way straight relative to it and T's corners moved affinely (a fixed or
+translated face; a way that crosses triangles of a flat face too: the places are those of its
+plane). Elsewhere a rule: on a curved or folded face the places are the planes' of T then and
+now (off them by the facet's sagitta; the curved faces put the anchor at Lambda_a on T's Phong
+patch), g_0 is the distance to T's plane, not the normal law's gap there; a point already
+through the face then (g_0 = 0) is anchored at its place then, one touching without
+penetrating (g_0 = pen = 0) at its place now. A point whose gap is to an edge or a vertex of the
+lower face (``Facing.on_edge``: beside T, along the direction to the closest point, not T's
+normal) does not land: its pen is not comparable with g_0 and the slip from a plane's anchor,
+taken across that direction, carries the point's height over T's plane (measured on the
+hemisphere-plies Mindlin [0/90] run: slips up to 0.090 mm against ways of at most 0.029 mm,
+some opposite to the way); it is anchored at its projection once the step is accepted, as
+before the rule.
+
+The anchor moves with the state: dLambda_a/dz = theta dLambda/dz + (Lambda - Lambda_0)
+dtheta/dz over z = (p, y_1, y_2, y_3) (T's corners now), with dtheta/dz = g_0 / (g_0 +
+pen)^2 dg/dz (where pen > 0) and, on T's plane (unit normal n, barycentric gradients grad
+phi_k, p = sum Lambda_k y_k + h n), dLambda_k/dp = grad phi_k^T and dLambda_k/dy_m = -Lambda_m
+grad phi_k^T + h (grad phi_k . grad phi_m) n^T. The flat faces' tangent carries it
+(elements/ply_friction.py ``friction_tangent``); the curved faces' tangent holds the anchor
+fixed over the landing step.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, replace
+from typing import TYPE_CHECKING, overload
+
+import numpy as np
+
+from elements.ply_projection import triangle_frames
+from elements.ply_sides import TOUCHING
+
+if TYPE_CHECKING:
+    from elements.ply_block import PlyContactBlock
+    from elements.ply_friction import PlyFrictionHistory
+    from elements.ply_projection import Facing
+    from femcore.state import State
+
+__all__ = ["Landing", "landed", "landing"]
+
+
+@dataclass(frozen=True)
+class Landing:
+    """The landing points of a step and their anchors' motion (module docstring).
+
+    rows : (r,) int
+        The points that had no anchor at the last accepted state and touch now.
+    rate : (r, 3) float
+        Lambda - Lambda_0, the barycentric way over the step on T.
+    theta : (r,) float
+        The share of the way before the touch.
+    dtheta : (r,) float
+        g_0 / (g_0 + pen)^2, 1/mm: dtheta/dz = dtheta dg/dz (0 where pen = 0).
+    weights : (r, 3) float
+        Lambda, the barycentric place of the point's projection on T's plane now.
+    gradients : (r, 3, 3) float
+        grad phi_k of T now, 1/mm.
+    normal : (r, 3) float
+        T's unit normal now.
+    height : (r,) float
+        h = n . (p - y_1), mm.
+    """
+
+    rows: np.ndarray
+    rate: np.ndarray
+    theta: np.ndarray
+    dtheta: np.ndarray
+    weights: np.ndarray
+    gradients: np.ndarray
+    normal: np.ndarray
+    height: np.ndarray
+
+    def anchor_motion(self, gap_gradient: np.ndarray) -> np.ndarray:
+        """(r, 3, 4, 3) dLambda_a,k/dz over z = (p, y_1, y_2, y_3), 1/mm, given dg/dz
+        ``gap_gradient`` (r, 4, 3) of the rows."""
+        grad, lam, n, h = self.gradients, self.weights, self.normal, self.height
+        motion = np.zeros((len(self.rows), 3, 4, 3))
+        motion[:, :, 0] = grad
+        for m in range(3):
+            motion[:, :, 1 + m] = (
+                -lam[:, m, None, None] * grad
+                + (h[:, None, None] * np.einsum("tki,ti->tk", grad, grad[:, m])[:, :, None])
+                * n[:, None, :]
+            )
+        motion *= self.theta[:, None, None, None]
+        motion += (self.rate * self.dtheta[:, None])[:, :, None, None] * gap_gradient[:, None]
+        return motion
+
+
+def _barycentric(corners: np.ndarray, point: np.ndarray) -> np.ndarray:
+    """(r, 3) the barycentric places of the projections of ``point`` (r, 3) on the planes of
+    the triangles ``corners`` (r, 3, 3), from their gradients (as elements/ply_projection.py
+    ``facets`` computes a projection's)."""
+    _, _, gradients = triangle_frames(corners)
+    weights = np.einsum("rki,rki->rk", gradients, point[:, None, :] - corners[:, 1, None, :])
+    weights[:, 1] = np.einsum("ri,ri->r", gradients[:, 1], point - corners[:, 0])
+    weights[:, 2] = 1.0 - weights[:, 0] - weights[:, 1]
+    return weights
+
+
+def landing(
+    block: PlyContactBlock, state: State, history: PlyFrictionHistory, facing: Facing
+) -> Landing | None:
+    """The landing points at ``state`` (``facing`` there, the sides held) from the accepted
+    ``history``: touching now, without an anchor and not touching then (their side; a history
+    whose anchors a caller dropped from touching points leaves them without friction, as
+    before); None where there are none (or the history keeps no sides: no place then)."""
+    sides = history.sides
+    if sides is None or block.friction <= 0.0:
+        return None
+    lands = facing.touching & (history.triangle < 0) & (sides.sides != TOUCHING)
+    if facing.on_edge is not None:  # gaps to an edge or a vertex: not T's plane's (docstring)
+        lands &= ~facing.on_edge
+    rows = np.flatnonzero(lands)
+    if len(rows) == 0:
+        return None
+    triangle = facing.triangle[rows]
+    before = sides.corners[triangle]
+    then = sides.faces[rows]
+    _, y = block._faces(state)
+    now = y[triangle]
+    p = facing.face[rows]
+    old = _barycentric(before, then)
+    normal, _, gradients = triangle_frames(now)
+    weights = _barycentric(now, p)
+    height = np.sum(normal * (p - now[:, 0]), axis=1)
+    g0 = np.maximum(np.sum(triangle_frames(before)[0] * (then - before[:, 0]), axis=1), 0.0)
+    pen = np.maximum(-facing.gap[rows], 0.0)
+    way = g0 + pen
+    safe = np.where(way > 0.0, way, 1.0)
+    theta = np.where(way > 0.0, g0 / safe, 1.0)
+    dtheta = np.where(pen > 0.0, g0 / safe**2, 0.0)
+    return Landing(rows, weights - old, theta, dtheta, weights, gradients, normal, height)
+
+
+@overload
+def landed(
+    block: PlyContactBlock,
+    state: State,
+    history: PlyFrictionHistory,
+    facing: Facing,
+    found: Landing | None = None,
+) -> PlyFrictionHistory: ...
+
+
+@overload
+def landed(
+    block: PlyContactBlock,
+    state: State,
+    history: None,
+    facing: Facing,
+    found: Landing | None = None,
+) -> None: ...
+
+
+def landed(
+    block: PlyContactBlock,
+    state: State,
+    history: PlyFrictionHistory | None,
+    facing: Facing,
+    found: Landing | None = None,
+) -> PlyFrictionHistory | None:
+    """``history`` with its landing points (``landing``, or ``found``) anchored for this
+    step on the triangle they face at Lambda_a = Lambda_0 + theta (Lambda - Lambda_0); the
+    history itself (the same object) where no point lands."""
+    if history is None:
+        return None
+    found = landing(block, state, history, facing) if found is None else found
+    if found is None:
+        return history
+    triangle = np.array(history.triangle, copy=True)
+    anchor = np.array(history.anchor, dtype=float, copy=True)
+    triangle[found.rows] = facing.triangle[found.rows]
+    anchor[found.rows] = found.weights - (1.0 - found.theta)[:, None] * found.rate
+    return replace(history, triangle=triangle, anchor=anchor)
