@@ -21,6 +21,14 @@ mm, the late force 96.04 / 94.77 N (1.3 %); at the 0.1-s stroke against x2 the l
 there), and the element rule's runs slowed x2 and x4 slipped 11.1 and 9.0 mm against 0.57
 slowed x8 (benchmarks/mindlin_rotary_inertia.py; docs/hemisphere_forming.md, "The penalty at
 the closed j's step, the element rule, and the two plies' pace").
+
+The corners' bound is the run's own scatter's, not the edges': the corner is where the last
+snap of the flange's wrinkles ends, and a change of mu by 1e-6 moves it at the case's pace by
+1.06 mm with the landing step frictionless (12.84 -> 13.90 mm) and by 1.85 mm with the landing
+points anchored where they touched (docs/theory.md §9.3a, "A point's landing step": 11.25 ->
+about 13.1 mm, within 0.2 mm of the run slowed x4, 12.97; x2 against x4 at mu 1.716 mm apart).
+2.5 mm is above that scatter and below the departure the test guards against (the corners 4.2
+and 8.6 mm apart at the 0.1-s stroke against x2); the edges' 0.5 mm holds (0.445 mm apart).
 """
 
 from __future__ import annotations
@@ -36,7 +44,8 @@ from validation.studies.hemisphere_plies_setup import HOLDER_FORCES
 
 SLIP_MM = 0.2  # the largest inter-ply slip
 RMS_SLIP_MM = 0.05  # the rms inter-ply slip
-DRAW_IN_MM = 0.5  # each ply's draw-in of the edge middle and of the corner
+DRAW_IN_MM = 0.5  # each ply's draw-in of the edge middle
+CORNER_MM = 2.5  # each ply's draw-in of the corner
 LATE_FORCE = 0.02  # relative: the punch's mean force over the last fifth of its travel
 
 
@@ -81,5 +90,5 @@ def test_the_mindlin_plies_run_is_at_its_quasi_static_answer():
     assert departure["rms slip"] <= RMS_SLIP_MM, departure
     for k in (1, 2):
         assert departure[f"ply {k} edge"] <= DRAW_IN_MM, departure
-        assert departure[f"ply {k} corner"] <= DRAW_IN_MM, departure
+        assert departure[f"ply {k} corner"] <= CORNER_MM, departure
     assert departure["late force"] <= LATE_FORCE, departure

@@ -35,7 +35,14 @@ compiled by a run before, load 1.4-1.8): 24 of 24 checks, 34349 steps (26376), 4
 for the case (40.3); Mindlin [0/90]: 16402 steps (8429), 18.9 s (11.0), largest slip 0.59 mm
 (2.47), draw-in of the edge middle 30.2 / 30.3 mm (31.3 / 31.4), of the corners 12.8 / 12.9
 mm (17.0 / 21.5), end force 137.6 N (115.9), ply 2's cells in the die 10 (13); every other
-run's results the same bits.
+run's results the same bits. With the ply contact's landing points anchored where their way
+crossed the lower face (docs/theory.md §9.3a, "A point's landing step"; their landing steps
+were frictionless before): Mindlin [0/90] largest slip 0.687 mm (0.593 before), rms 0.297
+(0.292), edge middles 29.8 / 29.9 mm (30.2 / 30.3), corners 11.3 / 12.1 mm (12.8 / 12.9), end
+force 137.1 N (137.6): within the run's scatter under a change of mu by 1e-6 (the corners move
+1-2 mm, tests/test_hemisphere_plies_pace.py); the fibrous runs by at most 0.5 %; Mindlin
+[0/45] the 45-deg ply's edge draw-in 14.4 -> 9.5 mm (that run picks its wrinkles' shape: mu x
+(1 + 1e-6) moves it 0.2 mm with the rule, its 0-deg ply's edge 5.7 mm without).
 Not time-scaled: the fibrous [0/90]
 stroke in 0.067 s (x1.5) put KE / W above 0.1 over 13.7 % of the judged run (peak 0.28) and
 fails the quasi-static check, though its compared numbers hardly moved
