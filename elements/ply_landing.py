@@ -16,9 +16,11 @@ penetration now (the normal law's gap g), the gap taken linear over the step. Ex
 lower face, a way straight relative to it and T's corners moved affinely (a fixed or
 translated face; a way that crosses triangles of a flat face too: the places are those of its
 plane). Elsewhere a rule: on a curved or folded face the places are the planes' of T then and
-now (off them by the facet's sagitta; the curved faces put the anchor at Lambda_a on T's Phong
-patch), g_0 is the distance to T's plane, not the normal law's gap there; a point already
-through the face then (g_0 = 0) is anchored at its place then, one touching without
+now (off them by the facet's sagitta; the curved faces put the anchor on T's Phong patch at
+the point's projection now less (1 - theta) times its way, the places taken along the patch's
+normal at that projection, so that a point coming in along it has no tangential way), g_0
+is the distance to T's plane, not the normal law's gap there; a point already through the face
+then (g_0 = 0) is anchored at its place then, one touching without
 penetrating (g_0 = pen = 0) at its place now. A point whose gap is to an edge or a vertex of the
 lower face (``Facing.on_edge``: beside T, along the direction to the closest point, not T's
 normal) does not land: its pen is not comparable with g_0 and the slip from a plane's anchor,
@@ -146,7 +148,30 @@ def landing(
     safe = np.where(way > 0.0, way, 1.0)
     theta = np.where(way > 0.0, g0 / safe, 1.0)
     dtheta = np.where(pen > 0.0, g0 / safe**2, 0.0)
-    return Landing(rows, weights - old, theta, dtheta, weights, gradients, normal, height)
+    rate = weights - old
+    if block.curved:
+        # The way's tangential part is along the lower surface, whose normal at the point's
+        # projection (the Phong patch's, facing.normal) is not T's: a point coming in along it
+        # has no tangential way, though its places on T's plane (taken along T's normal) move.
+        # Its places along that normal instead (the flat faces' rate is the same, n = nu).
+        along = facing.normal[rows]
+        rate = _barycentric(now, _onto_plane(now, p, along)) - _barycentric(
+            before, _onto_plane(before, then, along)
+        )
+    return Landing(rows, rate, theta, dtheta, weights, gradients, normal, height)
+
+
+def _onto_plane(corners: np.ndarray, point: np.ndarray, direction: np.ndarray) -> np.ndarray:
+    """(r, 3) ``point`` (r, 3) moved along ``direction`` (r, 3) onto the planes of the
+    triangles ``corners`` (r, 3, 3); moved along the planes' normals where ``direction``
+    lies (nearly) in them."""
+    normal = triangle_frames(corners)[0]
+    height = np.sum(normal * (point - corners[:, 0]), axis=1)
+    slant = np.sum(normal * direction, axis=1)
+    usable = np.abs(slant) > 0.5  # within 60 deg of the plane's normal
+    direction = np.where(usable[:, None], direction, normal)
+    slant = np.where(usable, slant, 1.0)
+    return point - (height / slant)[:, None] * direction
 
 
 @overload
@@ -187,5 +212,8 @@ def landed(
     triangle = np.array(history.triangle, copy=True)
     anchor = np.array(history.anchor, dtype=float, copy=True)
     triangle[found.rows] = facing.triangle[found.rows]
-    anchor[found.rows] = found.weights - (1.0 - found.theta)[:, None] * found.rate
+    # From the point's projection now, not its place on T's plane: the two are one on a flat
+    # face; on a curved one (the anchor on T's Phong patch) the plane's place is off the
+    # projection, and a point landing along the normal would slip by that difference.
+    anchor[found.rows] = facing.weights[found.rows] - (1.0 - found.theta)[:, None] * found.rate
     return replace(history, triangle=triangle, anchor=anchor)

@@ -37,6 +37,7 @@ from materials import ElasticShell
 from solvers import Static
 from solvers.step import LumpedMasses, explicit_step
 from tests.test_interaction_conformance import plies
+from tests.test_ply_curved_friction import _anchored
 
 MU = 0.3
 HALF = 0.1  # mm, each ply's half thickness: the faces lie HALF from the mid-surfaces
@@ -252,3 +253,29 @@ def test_a_point_whose_gap_is_to_an_edge_does_not_land():
     found = ply_landing.landing(block, state, history, dataclasses.replace(facing, on_edge=edge))
     assert found is not None
     np.testing.assert_array_equal(found.rows, np.flatnonzero(facing.touching & ~edge))
+
+
+@pytest.mark.parametrize("surface", ["flat", "curved"])
+def test_a_point_landing_along_the_facing_normal_does_not_slip(surface):
+    """Each point of a ply pair coming straight down along its facing normal (its face point
+    at the last accepted state 0.3 mm out along it, clear) lands with no tangential way, so
+    its landing anchor is its projection and its slip vanishes (1e-9 mm, round-off): on the
+    flat faces, and on the curved ones (the [0/45] pair on a 50-mm sphere), where the anchor
+    was once taken from the point's place on T's plane, not from its projection on T's Phong
+    patch (slips up to 0.032 mm, 16 of 41 points sliding at mu N)."""
+    if surface == "flat":
+        block, state, _ = plies(rule="gauss", friction=0.3)
+    else:
+        block, state, _ = _anchored("normal", stuck_only=False)
+    facing = block.facing(state)
+    faces, corners = block._faces(state)
+    count = len(facing.gap)
+    sides = PlySides(np.full(count, CLEAR, dtype=np.int8), faces + 0.3 * facing.normal, corners)
+    history = PlyFrictionHistory(
+        np.full(count, -1), np.full((count, 3), np.nan), np.zeros(count), np.zeros(count), 0.0,
+        sides,
+    )  # fmt: skip
+    found = ply_landing.landing(block, state, history, facing)
+    assert found is not None and len(found.rows) > 0
+    sliding = block.friction_state(state, ply_landing.landed(block, state, history, facing), facing)
+    assert np.abs(sliding.slip[found.rows]).max() < 1e-9
