@@ -52,7 +52,13 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from elements import ply_edge_couple_kernels, ply_landing, ply_projection, ply_surface
+from elements import (
+    ply_departure,
+    ply_edge_couple_kernels,
+    ply_landing,
+    ply_projection,
+    ply_surface,
+)
 from elements.ply_edge_couple import edge_couple, edge_couple_tangent, edge_features
 from elements.ply_fade_hessian import plane_hessian
 from elements.ply_projection import penalty_law, triangle_frames
@@ -726,6 +732,10 @@ def updated_history(
     spring = np.where(sliding.spring > 0, sliding.spring, 1.0)
     held = block.friction * sliding.pressing / spring  # |s| at the limit, mm
     slid = np.where(sliding.sliding, length - held, 0.0)
+    # a point that left the face slid until it left, N falling to 0 (elements/ply_departure.py)
+    _, y = block._faces(state)
+    rows, way = ply_departure.departure(block, y, history, facing)
+    slid[rows] = way
     # The moved anchor q = a + slid s^, in the facing triangle's barycentric coordinates
     # (its in-plane gradients drop the normal part of q - p).
     target = -sliding.offset + slid[:, None] * unit  # q - p

@@ -35,7 +35,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from elements import ply_friction
+from elements import ply_departure, ply_friction
 from elements.jit import jit_lanes, prange
 from elements.kept_bits import same_bits
 from elements.kernel_inputs import read_only, writable
@@ -343,7 +343,7 @@ def updated_history(
         last = (history.triangle, history.anchor, history.slip, history.pressing)
         kept = _kept_mapping(block, history, facing)
         sliding, moved, following = history_pass(block, facing, y, last, kept)
-        return _kept_history(block, history, facing, sides, sliding, moved, following)
+        return _kept_history(block, history, facing, sides, sliding, moved, following, y)
     sliding = friction_state(block, state, history, facing)
     _, y = block._faces(state)
     count = len(block.above)
@@ -382,15 +382,21 @@ def updated_history(
     # us on 384 points
     following = _mapped(block, facing, y, triangle, anchor)
     moved = (triangle, anchor, slipped, dissipation)
-    return _kept_history(block, history, facing, sides, sliding, moved, following)
+    return _kept_history(block, history, facing, sides, sliding, moved, following, y)
 
 
-def _kept_history(block, history, facing, sides, sliding, moved, following):
+def _kept_history(block, history, facing, sides, sliding, moved, following, y):
     """The new history from ``moved`` (triangle, anchor, slipped, dissipation) and the
-    mapping ``sliding``'s pressing, the dissipation summed by numpy; ``following``, the
-    mapping from it, kept on the block for the next step's loads (module docstring), as long
-    as the facing and the penalties are these."""
+    mapping ``sliding``'s pressing, the points that left the face (at the lower corners ``y``)
+    given their slip up to where they left (elements/ply_departure.py), the dissipation
+    summed by numpy; ``following``, the mapping from it, kept on the block for the next
+    step's loads (module docstring), as long as the facing and the penalties are these."""
     triangle, anchor, slipped, dissipation = moved
+    rows, way = ply_departure.departure(block, y, history, facing)
+    if len(rows):  # the numpy reference's records, the same bits (slid 0 there before)
+        slipped[rows] = history.slip[rows] + way
+        force = block.friction * 0.5 * (sliding.pressing[rows] + history.pressing[rows])
+        dissipation[rows] = force * way
     dissipated = history.dissipated + float(np.sum(dissipation))
     updated = PlyFrictionHistory(triangle, anchor, slipped, sliding.pressing, dissipated, sides)
     block._next_sliding = (updated, facing, _law(block), following, _bits(updated))

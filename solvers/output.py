@@ -252,10 +252,11 @@ class HistoryWriter:
 #: node leaving a tool dissipates its slip up to where it left (docs/theory.md §9.2; its
 #: history keeps each anchored node's place), 6 since a ply contact's landing point is
 #: anchored where its way crossed the lower face (§9.3a; its history's sides serve as the place
-#: it came from), so that a run resumed from an older checkpoint cannot change its meaning
+#: it came from), 7 since a ply contact's point leaving the lower face dissipates its slip up to
+#: where it left (§9.3a), so that a run resumed from an older checkpoint cannot change its meaning
 #: midway.
 CHECKPOINT_PREFIX = b"fibreshell checkpoint "
-CHECKPOINT_FORMAT = 6
+CHECKPOINT_FORMAT = 7
 CHECKPOINT_MAGIC = CHECKPOINT_PREFIX + f"{CHECKPOINT_FORMAT}\n".encode()
 
 

@@ -209,7 +209,7 @@ def test_a_file_that_is_not_a_checkpoint_is_refused(tmp_path):
         CentralDifference(duration=1e-4, progress=False).solve(hanging_cable(), checkpoint=path)
 
 
-@pytest.mark.parametrize("older", [2, 3, 4, 5])
+@pytest.mark.parametrize("older", [2, 3, 4, 5, 6])
 def test_a_checkpoint_of_an_older_format_is_refused_naming_both_formats(tmp_path, older):
     """Format 2 recorded "internal" as the internal forces' work, friction included (format 3:
     the stored energy, docs/theory.md §6.1); format 3 anchored a tool contact's landing node
@@ -217,18 +217,20 @@ def test_a_checkpoint_of_an_older_format_is_refused_naming_both_formats(tmp_path
     theory.md §9.2); format 4 dissipated nothing for a node's slip in the step it left a tool
     (format 5: up to where it left, its history keeping each anchored node's place); format 5
     gave a ply contact's landing point no friction in its landing step (format 6: anchored
-    where its way crossed the lower face, §9.3a): a run resumed from any would change the
+    where its way crossed the lower face, §9.3a); format 6 dissipated nothing for a ply
+    contact point's slip in the step it left the lower face (format 7: up to where it left,
+    §9.3a): a run resumed from any would change the
     meaning of its records or its friction midway, so it is refused, whole and checksummed as
     it is."""
     from solvers.output import CHECKPOINT_FORMAT, CHECKPOINT_MAGIC, save_checkpoint
 
-    assert CHECKPOINT_FORMAT == 6
+    assert CHECKPOINT_FORMAT == 7
     path = tmp_path / "run.ckpt"
     save_checkpoint(path, {"signature": "any"})
     data = path.read_bytes()
     header = f"fibreshell checkpoint {older}\n".encode()
     path.write_bytes(header + data[len(CHECKPOINT_MAGIC) :])
-    with pytest.raises(ValueError, match=f"checkpoint of format {older}, .* reads format 6"):
+    with pytest.raises(ValueError, match=f"checkpoint of format {older}, .* reads format 7"):
         CentralDifference(duration=1e-4, progress=False).solve(hanging_cable(), checkpoint=path)
 
 

@@ -1,0 +1,88 @@
+"""The slip of a ply contact point that leaves the lower face within a step (PlyContact with
+``friction`` > 0; docs/theory.md §9.2 and §9.3a, "Friction between plies").
+
+A point anchored at the last accepted state (touching) and off the lower face now slid, in
+that step, from its place then to where its way left the face, under a normal force falling
+from N_0 to 0 (the tool contact's rule, elements/contact_history.py ``departure``). Its place
+is relative to the lower ply (which moves too): on the plane of its anchor's triangle T, the
+barycentric place of the point's projection at the last accepted state (its contact point
+p_0 on T's corners then, the history's sides keep both, elements/ply_sides.py) and now (p on
+T's corners now),
+
+    Lambda_l = Lambda_0 + theta (Lambda - Lambda_0),   theta = pen_0 / (pen_0 + g),
+
+pen_0 = max(-n_0 . (p_0 - y_0), 0) its penetration of T's plane then, g = n . (p - y) its gap
+to T's plane now, the gap taken linear over the step. Its slip is its whole offset from its
+anchor there, |sum_k (Lambda_l - Lambda_a)_k y_l,k| with T's corners y_l = y_0 + theta (y -
+y_0) (the stick spring holds nothing at g = 0), at the step's mean limit force mu N_0 / 2 (the
+record's midpoint rule: N = 0 now). Exact for a flat lower face, a way straight relative to it
+and T's corners moved affinely. Elsewhere a rule: on a curved or folded face the places are
+those of T's plane (off the surface by the facet's sagitta), pen_0 the distance to T's plane,
+not the normal law's gap. A point with no gap to T's plane now (g <= 0: it left across the
+lower ply's outline or is kept off a face it lies behind, not lifted off) or whose gap now is
+to an edge or a vertex (``Facing.on_edge``: its g is not T's plane's) has no slip counted for
+the step, as before the rule; so has a history that keeps no sides.
+
+Only the records change (the slip and the dissipation): the forces, the anchors and the
+tangent are those of a point off the face.
+"""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from elements.ply_projection import triangle_frames
+from elements.ply_sides import TOUCHING
+
+if TYPE_CHECKING:
+    from elements.ply_block import PlyContactBlock
+    from elements.ply_friction import PlyFrictionHistory
+    from elements.ply_projection import Facing
+
+__all__ = ["departure"]
+
+
+def _barycentric(corners: np.ndarray, point: np.ndarray) -> np.ndarray:
+    """(r, 3) the barycentric places of the projections of ``point`` (r, 3) on the planes of
+    the triangles ``corners`` (r, 3, 3)."""
+    _, _, gradients = triangle_frames(corners)
+    weights = np.einsum("rki,rki->rk", gradients, point[:, None, :] - corners[:, 1, None, :])
+    weights[:, 1] = np.einsum("ri,ri->r", gradients[:, 1], point - corners[:, 0])
+    weights[:, 2] = 1.0 - weights[:, 0] - weights[:, 1]
+    return weights
+
+
+def departure(
+    block: PlyContactBlock, y: np.ndarray, history: PlyFrictionHistory, facing: Facing
+) -> tuple[np.ndarray, np.ndarray]:
+    """(rows (r,) int, slip (r,) mm): the points of the ply contact ``block`` that left the
+    lower face in the step from the accepted ``history`` to the state of ``facing`` (the
+    sides held; the offset lower corners ``y`` (m, 3, 3) there, mm), and each one's slip in
+    that step up to where it left (module docstring). No rows without friction or sides."""
+    sides = history.sides
+    none = np.zeros(0, dtype=np.int64)
+    if sides is None or block.friction <= 0.0:
+        return none, np.zeros(0)
+    left = (~np.asarray(facing.touching, dtype=bool)) & (history.triangle >= 0)
+    left &= sides.sides == TOUCHING
+    if facing.on_edge is not None:  # gaps to an edge or a vertex: not T's plane's
+        left &= ~facing.on_edge
+    rows = np.flatnonzero(left & np.all(np.isfinite(facing.face), axis=1))
+    if len(rows) == 0:
+        return none, np.zeros(0)
+    triangle = history.triangle[rows]
+    before, now = sides.corners[triangle], y[triangle]
+    then, p = sides.faces[rows], facing.face[rows]
+    pen0 = np.maximum(-np.sum(triangle_frames(before)[0] * (then - before[:, 0]), axis=1), 0.0)
+    gap = np.sum(triangle_frames(now)[0] * (p - now[:, 0]), axis=1)
+    lifted = gap > 0.0  # (g <= 0: not lifted off T's plane; module docstring)
+    rows, triangle, pen0, gap = rows[lifted], triangle[lifted], pen0[lifted], gap[lifted]
+    before, now, then, p = before[lifted], now[lifted], then[lifted], p[lifted]
+    theta = pen0 / (pen0 + gap)
+    old = _barycentric(before, then)
+    place = old + theta[:, None] * (_barycentric(now, p) - old)
+    corners = before + theta[:, None, None] * (now - before)
+    offset = np.einsum("rk,rki->ri", place - history.anchor[rows], corners)
+    return rows, np.linalg.norm(offset, axis=1)
