@@ -715,8 +715,9 @@ def updated_history(
     """The return mapping accepted (a new history; ``history`` is left as it was): stuck
     anchors stay, sliding ones move along s towards their points until the spring holds
     mu N and are re-expressed on the facing triangle, new contacts are anchored at their
-    projections, lost ones forget their anchor; the dissipation adds mu N_mid times the
-    slip, N_mid the mean of the last accepted and this normal force. ``facing`` the state's
+    projections, lost ones forget their anchor, having slid up to where they left the face
+    (elements/ply_departure.py); the dissipation adds mu N_mid times the slip, N_mid the mean
+    of the last accepted and this normal force. ``facing`` the state's
     (with the points kept off their faces not touching, elements/ply_sides.py; the block's
     when None), ``sides`` the points' sides there, kept in the new history. The block hands
     it a history whose points landing in this step are anchored where their way crossed the
