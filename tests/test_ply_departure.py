@@ -46,9 +46,11 @@ STEPS = 40
 DURATION = 1.0e-4  # s
 
 
-def lifted_plies() -> Model:
+def lifted_plies(surface: str = "flat") -> Model:
     """The two plies (module docstring): the lower one held (but a far corner free along z,
-    which no contact reaches, so that Static has an unknown), the upper one carried."""
+    which no contact reaches, so that Static has an unknown), the upper one carried; the
+    contact's faces ``surface`` ("flat" or "curved": the Phong patches of a flat ply are its
+    facets)."""
     lower = Mesh.rectangle(6.0, 6.0, nx=3, ny=3)
     upper = Mesh.rectangle(2.0, 2.0, nx=2, ny=2, origin=(0.7, 0.9, 2 * HALF - PEN0))
     count, cells = len(lower.points), len(lower.triangles)
@@ -67,7 +69,15 @@ def lifted_plies() -> Model:
     for name in ("lower", "upper"):
         model.add(MindlinShell(shell), cells=name)
     contact = PlyContact(
-        "upper", "lower", HALF, HALF, penalty=PENALTY, rule="gauss", smoothing=0.0, friction=MU
+        "upper",
+        "lower",
+        HALF,
+        HALF,
+        penalty=PENALTY,
+        rule="gauss",
+        smoothing=0.0,
+        friction=MU,
+        surface=surface,
     )
     model.interact(contact)
     model.fix(np.arange(count - 1))
@@ -128,11 +138,12 @@ def test_static_counts_the_slip_of_a_departure_increment_up_to_the_lift_off(
     assert last.dissipated == pytest.approx(dissipation, rel=1e-12)
 
 
-def stepped(compiled: bool, steps: int) -> PlyFrictionHistory:
+def stepped(compiled: bool, steps: int, surface: str = "flat") -> PlyFrictionHistory:
     """The block's history stepped over the carried states by the compiled passes or the
-    numpy reference (the explicit solver's and Static's acceptance alike)."""
+    numpy reference (the explicit solver's and Static's acceptance alike), on ``surface``
+    faces."""
     ply_projection.COMPILED = compiled
-    compiled_model = lifted_plies().compile()
+    compiled_model = lifted_plies(surface).compile()
     block = compiled_model.interactions[0]
     state = compiled_model.initial_state()
     upper = np.unique(block.above)
@@ -154,6 +165,16 @@ def test_the_compiled_and_numpy_histories_count_the_slip_to_the_lift_off(monkeyp
     assert fast.dissipated == pytest.approx(dissipation, rel=1e-12)
     np.testing.assert_array_equal(fast.slip, reference.slip)
     assert fast.dissipated == reference.dissipated
+
+
+def test_the_curved_faces_count_the_slip_to_the_lift_off(monkeypatch):
+    """The curved faces' history (the numpy reference): a flat ply's patches are its facets,
+    where the rule is exact too."""
+    monkeypatch.setattr(ply_projection, "COMPILED", ply_projection.COMPILED)
+    history = stepped(True, 40, "curved")
+    dissipation, slip = coulomb(lifted_plies("curved").compile().interactions[0])
+    np.testing.assert_allclose(history.slip, slip, rtol=1e-12)
+    assert history.dissipated == pytest.approx(dissipation, rel=1e-12)
 
 
 def test_a_point_pushed_along_the_face_off_its_outline_is_not_counted_a_departure():
