@@ -44,14 +44,17 @@ if TYPE_CHECKING:
 __all__ = ["departure"]
 
 
-def _barycentric(corners: np.ndarray, point: np.ndarray) -> np.ndarray:
-    """(r, 3) the barycentric places of the projections of ``point`` (r, 3) on the planes of
-    the triangles ``corners`` (r, 3, 3)."""
-    _, _, gradients = triangle_frames(corners)
+def _places(corners: np.ndarray, point: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(weights (r, 3), height (r,) mm): the barycentric places of the projections of
+    ``point`` (r, 3) on the planes of the triangles ``corners`` (r, 3, 3) (as elements/
+    ply_landing.py's ``_barycentric``) and its signed distances to them along their normals;
+    one frame of the triangles for both."""
+    normal, _, gradients = triangle_frames(corners)
+    relative = point - corners[:, 0]
     weights = np.einsum("rki,rki->rk", gradients, point[:, None, :] - corners[:, 1, None, :])
-    weights[:, 1] = np.einsum("ri,ri->r", gradients[:, 1], point - corners[:, 0])
+    weights[:, 1] = np.einsum("ri,ri->r", gradients[:, 1], relative)
     weights[:, 2] = 1.0 - weights[:, 0] - weights[:, 1]
-    return weights
+    return weights, np.einsum("ri,ri->r", normal, relative)
 
 
 def departure(
@@ -65,24 +68,27 @@ def departure(
     none = np.zeros(0, dtype=np.int64)
     if sides is None or block.friction <= 0.0:
         return none, np.zeros(0)
-    left = (~np.asarray(facing.touching, dtype=bool)) & (history.triangle >= 0)
-    left &= sides.sides == TOUCHING
+    # (the anchored points are few to test further: a step where none leaves costs a mask)
+    rows = np.flatnonzero((history.triangle >= 0) & ~np.asarray(facing.touching, dtype=bool))
+    rows = rows[sides.sides[rows] == TOUCHING]
     if facing.on_edge is not None:  # gaps to an edge or a vertex: not T's plane's
-        left &= ~facing.on_edge
-    rows = np.flatnonzero(left & np.all(np.isfinite(facing.face), axis=1))
+        rows = rows[~facing.on_edge[rows]]
+    rows = rows[np.all(np.isfinite(facing.face[rows]), axis=1)]
     if len(rows) == 0:
         return none, np.zeros(0)
     triangle = history.triangle[rows]
     before, now = sides.corners[triangle], y[triangle]
     then, p = sides.faces[rows], facing.face[rows]
-    pen0 = np.maximum(-np.sum(triangle_frames(before)[0] * (then - before[:, 0]), axis=1), 0.0)
-    gap = np.sum(triangle_frames(now)[0] * (p - now[:, 0]), axis=1)
+    # the places then and now in one pass (one frame of the 2r triangles: a step leaves few)
+    places, heights = _places(np.concatenate([before, now]), np.concatenate([then, p]))
+    count = len(rows)
+    old, weights = places[:count], places[count:]
+    pen0, gap = np.maximum(-heights[:count], 0.0), heights[count:]
     lifted = gap > 0.0  # (g <= 0: not lifted off T's plane; module docstring)
-    rows, triangle, pen0, gap = rows[lifted], triangle[lifted], pen0[lifted], gap[lifted]
-    before, now, then, p = before[lifted], now[lifted], then[lifted], p[lifted]
+    rows, pen0, gap = rows[lifted], pen0[lifted], gap[lifted]
+    before, now, old, weights = before[lifted], now[lifted], old[lifted], weights[lifted]
     theta = pen0 / (pen0 + gap)
-    old = _barycentric(before, then)
-    place = old + theta[:, None] * (_barycentric(now, p) - old)
+    place = old + theta[:, None] * (weights - old)
     corners = before + theta[:, None, None] * (now - before)
     offset = np.einsum("rk,rki->ri", place - history.anchor[rows], corners)
     return rows, np.linalg.norm(offset, axis=1)
