@@ -19,6 +19,7 @@ from materials import ElasticShell
 from solvers import Static
 from solvers.dynamics import EnergyAccount
 from solvers.step import LumpedMasses, explicit_step
+from tests.explicit_runs import run_explicitly
 
 MU = 0.3
 PENALTY = 1.0e3  # N/mm per node
@@ -98,13 +99,7 @@ def test_a_plate_lifted_off_a_frictional_tool_dissipates_coulombs_work_until_it_
     step's way from a penetration p_i = 4e-4 mm plus the stick spring's mu p_i, was not
     counted: 4 mu k p_i / 2 (mu p_i + 4/7 SLIDE / STEPS) = 1.40e-3 N mm less, 7.427171
     (1.9e-4 of it; fails there)."""
-    compiled = dipped_plate(name).compile()
-    state = compiled.initial_state()
-    masses = LumpedMasses.of(compiled, state)
-    previous = 0.0
-    for _ in range(STEPS):
-        outcome = explicit_step(compiled, state, DT, masses, dt_prev=previous, duration=DURATION)
-        state, previous = compiled.commit(outcome.state), DT
+    compiled, state = run_explicitly(dipped_plate(name), STEPS, DURATION)
     assert state.load_factor == pytest.approx(1.0, rel=1e-12)
     tool = compiled.tool_displacements(state)[0, 2]
     clear = state.positions[:4, 2] - tool - 0.5  # off the tool's contact surface at the end

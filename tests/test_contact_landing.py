@@ -14,13 +14,14 @@ from femcore import Body, Mesh, Model
 from femcore.state import State
 from materials import ElasticShell
 from solvers import Static
-from solvers.step import LumpedMasses, explicit_step
+from tests.explicit_runs import run_explicitly
 
 MU = 0.3
 PENALTY = 1.0e3  # N/mm per node
 STEPS = 100
 DURATION = 1.0e-4  # s
-DT = DURATION / STEPS  # within the cell's L / c = 4e-6 s and the springs' 2 sqrt(m / k) = 3e-5 s
+# A step, DURATION / STEPS = 1e-6 s, is within the cell's L / c = 4e-6 s and the springs'
+# 2 sqrt(m / k) = 3e-5 s.
 GAP = 0.1  # mm between the contact surface and the nodes at the start
 RISE = 0.12  # mm the tool rises over the run: it reaches the nodes at 0.1 / 0.12 = 83 1/3 steps
 SLIDE = 1.0  # mm the nodes are carried along x over the run
@@ -50,19 +51,6 @@ def carried_plate(name: str):
     return flat, model
 
 
-def carried_over_the_run(model):
-    """(the compiled model, its state at the end): ``model`` run over DURATION in STEPS
-    explicit steps of DT, each committed."""
-    compiled = model.compile()
-    state = compiled.initial_state()
-    masses = LumpedMasses.of(compiled, state)
-    previous = 0.0
-    for _ in range(STEPS):
-        outcome = explicit_step(compiled, state, DT, masses, dt_prev=previous, duration=DURATION)
-        state, previous = compiled.commit(outcome.state), DT
-    return compiled, state
-
-
 @pytest.mark.parametrize("name", ["plane", "meshed"])
 def test_a_node_carried_onto_a_rising_tool_dissipates_coulombs_work_after_it_touched(name):
     """A 1 mm plate (one cell) carried at a steady pace along x (1 mm over the run) while a
@@ -78,7 +66,7 @@ def test_a_node_carried_onto_a_rising_tool_dissipates_coulombs_work_after_it_tou
     4 mu k p_1 / 2 x SLIDE / 300 = 1.6e-3 N mm more (p_1 = 8e-4 mm), 8.3e-4 of D: it
     fails there."""
     flat, model = carried_plate(name)
-    compiled, state = carried_over_the_run(model)
+    compiled, state = run_explicitly(model, STEPS, DURATION)
     assert state.load_factor == pytest.approx(1.0, rel=1e-12)
     np.testing.assert_allclose(state.positions[:, 0] - flat.points[:, 0], SLIDE, rtol=1e-12)
     penetration = RISE * state.load_factor - GAP
@@ -99,7 +87,7 @@ def test_a_landing_steps_exact_gaps_are_searched_once(monkeypatch):
 
     monkeypatch.setattr(RigidSurface, "exact_distance", counted)
     _, model = carried_plate("meshed")
-    carried_over_the_run(model)
+    run_explicitly(model, STEPS, DURATION)
     assert calls == [4]  # the four nodes land in one step (step 84)
 
 

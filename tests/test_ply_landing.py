@@ -26,67 +26,26 @@ import dataclasses
 import numpy as np
 import pytest
 
-from elements import MindlinShell, ply_landing, ply_projection
-from elements.ply_block import PlyContactBlock
-from elements.ply_contact import PlyContact
+from elements import ply_landing, ply_projection
 from elements.ply_friction import PlyFrictionHistory
 from elements.ply_sides import CLEAR, PlySides
-from femcore import Mesh, Model
+from femcore import Model
 from femcore.interaction_checks import check_tangent
-from materials import ElasticShell
-from solvers import Static
-from solvers.step import LumpedMasses, explicit_step
+from tests.explicit_runs import run_explicitly
+from tests.ply_pair import MU, moved_plies, static_histories
 from tests.test_interaction_conformance import plies
 from tests.test_ply_curved_friction import _anchored
 
-MU = 0.3
-HALF = 0.1  # mm, each ply's half thickness: the faces lie HALF from the mid-surfaces
 G0 = 0.0213  # mm between the faces at the start
 VX, VZ = 2.5, 0.1  # mm over the run, along x and down
-PENALTY = 50.0  # N/mm per point
 STEPS = 40
 DURATION = 1.0e-4  # s
 
 
 def carried_plies(surface: str = "flat") -> Model:
-    """The two plies (module docstring): the lower one held (but a far corner free along z,
-    which no contact reaches, so that Static has an unknown), the upper one carried; the
-    contact's faces ``surface`` ("flat" or "curved": the Phong patches of a flat ply are
-    its facets)."""
-    lower = Mesh.rectangle(6.0, 6.0, nx=3, ny=3)
-    upper = Mesh.rectangle(2.0, 2.0, nx=2, ny=2, origin=(0.7, 0.9, 2 * HALF + G0))
-    count, cells = len(lower.points), len(lower.triangles)
-    nodes = count + len(upper.points)
-    mesh = Mesh(
-        np.vstack([lower.points, upper.points]),
-        triangles=np.vstack([lower.triangles, upper.triangles + count]),
-        node_sets={"lower": np.arange(count), "upper": np.arange(count, nodes)},
-        element_sets={
-            "lower": np.arange(cells),
-            "upper": np.arange(cells, cells + len(upper.triangles)),
-        },
-    )
-    model = Model(mesh)
-    shell = ElasticShell(E=70e3, nu=0.3, thickness=2 * HALF, density=2.7e-9)
-    for name in ("lower", "upper"):
-        model.add(MindlinShell(shell), cells=name)
-    contact = PlyContact(
-        "upper",
-        "lower",
-        HALF,
-        HALF,
-        penalty=PENALTY,
-        rule="gauss",
-        smoothing=0.0,
-        friction=MU,
-        surface=surface,
-    )
-    model.interact(contact)
-    model.fix(np.arange(count - 1))
-    model.fix([count - 1], ("ux", "uy", "alpha", "beta"))
-    model.fix(np.arange(count, nodes), ("alpha", "beta"))
-    model.displace(np.arange(count, nodes), ux=VX, uy=0.0, uz=-VZ, amplitude="linear")
-    return model
+    """The two plies (module docstring; tests/ply_pair.py), the upper one carried VX along x
+    and VZ down from G0 over the lower one's face, on faces ``surface``."""
+    return moved_plies(G0, VX, -VZ, surface)
 
 
 def coulomb(block) -> tuple[float, float]:
@@ -102,14 +61,7 @@ def test_an_explicit_run_dissipates_coulombs_work_after_the_touch():
     """40 explicit steps: the touch falls 0.52 of the way through step 9. Before, the landing
     step took no friction and its points were anchored at their projections once it was
     accepted: 10.323910 against 10.326430 N mm (2.4e-4 short: fails)."""
-    model = carried_plies()
-    compiled = model.compile()
-    state = compiled.initial_state()
-    masses = LumpedMasses.of(compiled, state)
-    previous, dt = 0.0, DURATION / STEPS
-    for _ in range(STEPS):
-        outcome = explicit_step(compiled, state, dt, masses, dt_prev=previous, duration=DURATION)
-        state, previous = compiled.commit(outcome.state), dt
+    compiled, state = run_explicitly(carried_plies(), STEPS, DURATION)
     assert state.load_factor == pytest.approx(1.0, rel=1e-12)
     dissipation = coulomb(compiled.interactions[0])[0]
     assert compiled.dissipated_energy(state) == pytest.approx(dissipation, rel=1e-12)
@@ -120,18 +72,8 @@ def test_static_counts_the_slip_of_a_landing_increment_from_the_touch(monkeypatc
     """Static in 3 and 7 increments (the committed histories watched): each point slid
     (VX - mu VZ)(1 - t_c) = 1.94389 mm and the dissipation is Coulomb's. Before, the landing
     increment was frictionless: 1.64306 / 1.76210 mm and 10.0710 / 10.2340 N mm (fails)."""
-    committed: list[PlyFrictionHistory] = []
-    accept = PlyContactBlock.update_history
-
-    def watched(block, state, history):
-        committed.append(accept(block, state, history))
-        return committed[-1]
-
-    monkeypatch.setattr(PlyContactBlock, "update_history", watched)
     model = carried_plies()
-    result = Static(increments=increments, progress=False).solve(model)
-    assert result.converged and len(committed) == increments
-    last = committed[-1]
+    last = static_histories(monkeypatch, model, increments)[-1]
     dissipation, slip = coulomb(model.compile().interactions[0])
     np.testing.assert_allclose(last.slip, slip, rtol=1e-12)
     assert last.dissipated == pytest.approx(dissipation, rel=1e-12)

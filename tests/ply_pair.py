@@ -1,0 +1,74 @@
+"""Two Mindlin plies with frictional ply contact, the upper one carried by a prescribed
+motion over a held lower one: the model of the ply landing and departure tests
+(tests/test_ply_landing.py, test_ply_departure.py), and Static's accepted histories of it."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from elements import MindlinShell
+from elements.ply_block import PlyContactBlock
+from elements.ply_contact import PlyContact
+from elements.ply_friction import PlyFrictionHistory
+from femcore import Mesh, Model
+from materials import ElasticShell
+from solvers import Static
+
+MU = 0.3
+HALF = 0.1  # mm, each ply's half thickness: the faces lie HALF from the mid-surfaces
+PENALTY = 50.0  # N/mm per point
+
+
+def moved_plies(gap: float, ux: float, uz: float, surface: str = "flat") -> Model:
+    """The two plies: the lower one 6 x 6 mm in 3 x 3 cells, held (but a far corner free along
+    z, which no contact reaches, so that Static has an unknown); the upper one 2 x 2 mm in 2 x
+    2 cells, its face ``gap`` mm over the lower one's (negative: into it), carried by ``ux``
+    and ``uz`` mm over the run (linear), its directors held; the contact (mu MU, penalty
+    PENALTY a point, Gauss points, no smoothing) on faces ``surface`` ("flat" or "curved":
+    the Phong patches of a flat ply are its facets)."""
+    lower = Mesh.rectangle(6.0, 6.0, nx=3, ny=3)
+    upper = Mesh.rectangle(2.0, 2.0, nx=2, ny=2, origin=(0.7, 0.9, 2 * HALF + gap))
+    count, cells = len(lower.points), len(lower.triangles)
+    nodes = count + len(upper.points)
+    mesh = Mesh(
+        np.vstack([lower.points, upper.points]),
+        triangles=np.vstack([lower.triangles, upper.triangles + count]),
+        node_sets={"lower": np.arange(count), "upper": np.arange(count, nodes)},
+        element_sets={
+            "lower": np.arange(cells),
+            "upper": np.arange(cells, cells + len(upper.triangles)),
+        },
+    )
+    model = Model(mesh)
+    shell = ElasticShell(E=70e3, nu=0.3, thickness=2 * HALF, density=2.7e-9)
+    for name in ("lower", "upper"):
+        model.add(MindlinShell(shell), cells=name)
+    contact = PlyContact(
+        "upper", "lower", HALF, HALF, penalty=PENALTY, rule="gauss", smoothing=0.0,
+        friction=MU, surface=surface,
+    )  # fmt: skip
+    model.interact(contact)
+    model.fix(np.arange(count - 1))
+    model.fix([count - 1], ("ux", "uy", "alpha", "beta"))
+    model.fix(np.arange(count, nodes), ("alpha", "beta"))
+    model.displace(np.arange(count, nodes), ux=ux, uy=0.0, uz=uz, amplitude="linear")
+    return model
+
+
+def static_histories(
+    monkeypatch: pytest.MonkeyPatch, model: Model, increments: int
+) -> list[PlyFrictionHistory]:
+    """The ply contact's histories Static accepted solving ``model`` in ``increments``
+    increments (converged, one per increment, checked)."""
+    committed: list[PlyFrictionHistory] = []
+    accept = PlyContactBlock.update_history
+
+    def watched(block, state, history):
+        committed.append(accept(block, state, history))
+        return committed[-1]
+
+    monkeypatch.setattr(PlyContactBlock, "update_history", watched)
+    result = Static(increments=increments, progress=False).solve(model)
+    assert result.converged and len(committed) == increments
+    return committed
