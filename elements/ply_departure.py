@@ -33,7 +33,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from elements.ply_projection import triangle_frames
+from elements.ply_landing import plane_places
 from elements.ply_sides import TOUCHING
 
 if TYPE_CHECKING:
@@ -42,19 +42,6 @@ if TYPE_CHECKING:
     from elements.ply_projection import Facing
 
 __all__ = ["departure"]
-
-
-def _places(corners: np.ndarray, point: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """(weights (r, 3), height (r,) mm): the barycentric places of the projections of
-    ``point`` (r, 3) on the planes of the triangles ``corners`` (r, 3, 3) (as elements/
-    ply_landing.py's ``_barycentric``) and its signed distances to them along their normals;
-    one frame of the triangles for both."""
-    normal, _, gradients = triangle_frames(corners)
-    relative = point - corners[:, 0]
-    weights = np.einsum("rki,rki->rk", gradients, point[:, None, :] - corners[:, 1, None, :])
-    weights[:, 1] = np.einsum("ri,ri->r", gradients[:, 1], relative)
-    weights[:, 2] = 1.0 - weights[:, 0] - weights[:, 1]
-    return weights, np.einsum("ri,ri->r", normal, relative)
 
 
 def departure(
@@ -80,7 +67,7 @@ def departure(
     before, now = sides.corners[triangle], y[triangle]
     then, p = sides.faces[rows], facing.face[rows]
     # the places then and now in one pass (one frame of the 2r triangles: a step leaves few)
-    places, heights = _places(np.concatenate([before, now]), np.concatenate([then, p]))
+    places, heights = plane_places(np.concatenate([before, now]), np.concatenate([then, p]))
     count = len(rows)
     old, weights = places[:count], places[count:]
     pen0, gap = np.maximum(-heights[:count], 0.0), heights[count:]

@@ -54,7 +54,7 @@ if TYPE_CHECKING:
     from elements.ply_projection import Facing
     from femcore.state import State
 
-__all__ = ["Landing", "landed", "landing"]
+__all__ = ["Landing", "landed", "landing", "plane_places"]
 
 
 @dataclass(frozen=True)
@@ -105,15 +105,18 @@ class Landing:
         return motion
 
 
-def _barycentric(corners: np.ndarray, point: np.ndarray) -> np.ndarray:
-    """(r, 3) the barycentric places of the projections of ``point`` (r, 3) on the planes of
-    the triangles ``corners`` (r, 3, 3), from their gradients (as elements/ply_projection.py
-    ``facets`` computes a projection's)."""
-    _, _, gradients = triangle_frames(corners)
+def plane_places(corners: np.ndarray, point: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(weights (r, 3), height (r,) mm): the barycentric places of the projections of
+    ``point`` (r, 3) on the planes of the triangles ``corners`` (r, 3, 3), from their
+    gradients (as elements/ply_projection.py ``facets`` computes a projection's), and its
+    signed distances to them along their normals; one frame of the triangles for both (the
+    landing's and the departure's places, elements/ply_departure.py)."""
+    normal, _, gradients = triangle_frames(corners)
+    relative = point - corners[:, 0]
     weights = np.einsum("rki,rki->rk", gradients, point[:, None, :] - corners[:, 1, None, :])
-    weights[:, 1] = np.einsum("ri,ri->r", gradients[:, 1], point - corners[:, 0])
+    weights[:, 1] = np.einsum("ri,ri->r", gradients[:, 1], relative)
     weights[:, 2] = 1.0 - weights[:, 0] - weights[:, 1]
-    return weights
+    return weights, np.einsum("ri,ri->r", normal, relative)
 
 
 def landing(
@@ -138,9 +141,9 @@ def landing(
     _, y = block._faces(state)
     now = y[triangle]
     p = facing.face[rows]
-    old = _barycentric(before, then)
+    old = plane_places(before, then)[0]
     normal, _, gradients = triangle_frames(now)
-    weights = _barycentric(now, p)
+    weights = plane_places(now, p)[0]
     height = np.sum(normal * (p - now[:, 0]), axis=1)
     g0 = np.maximum(np.sum(triangle_frames(before)[0] * (then - before[:, 0]), axis=1), 0.0)
     pen = np.maximum(-facing.gap[rows], 0.0)
@@ -155,8 +158,9 @@ def landing(
         # has no tangential way, though its places on T's plane (taken along T's normal) move.
         # Its places along that normal instead (the flat faces' rate is the same, n = nu).
         along = facing.normal[rows]
-        rate = _barycentric(now, _onto_plane(now, p, along)) - _barycentric(
-            before, _onto_plane(before, then, along)
+        rate = (
+            plane_places(now, _onto_plane(now, p, along))[0]
+            - plane_places(before, _onto_plane(before, then, along))[0]
         )
     return Landing(rows, rate, theta, dtheta, weights, gradients, normal, height)
 
