@@ -21,13 +21,28 @@ the point's projection now less (1 - theta) times its way, the places taken alon
 normal at that projection, so that a point coming in along it has no tangential way), g_0
 is the distance to T's plane, not the normal law's gap there; a point already through the face
 then (g_0 = 0) is anchored at its place then, one touching without
-penetrating (g_0 = pen = 0) at its place now. A point whose gap is to an edge or a vertex of the
-lower face (``Facing.on_edge``: beside T, along the direction to the closest point, not T's
-normal) does not land: its pen is not comparable with g_0 and the slip from a plane's anchor,
-taken across that direction, carries the point's height over T's plane (measured on the
-hemisphere-plies Mindlin [0/90] run: slips up to 0.090 mm against ways of at most 0.029 mm,
-some opposite to the way); it is anchored at its projection once the step is accepted, as
-before the rule.
+penetrating (g_0 = pen = 0) at its place now.
+
+A point whose gap is to an edge or a vertex of the lower face (``Facing.on_edge``: its closest
+point q there, g = +-|p - q| along nu = (p - q) / g, not T's normal) lands by that gap
+(``edge_crossing``), its zero through q taken as a plane of normal m: m = nu where the feature's
+pseudonormal signs g (g passes zero at q; the plane normal to nu is its zero to first order
+about the state now), m = T's normal where T's normal signs it (beside a growth's edge, at an
+outline vertex, on a cut: g = sign(h) |p - q| changes sign where p passes T's plane, h = 0,
+and the fade's w starts from 0 there). So g_0 = max(m . (p_0 - q_0), 0), q_0 = sum_k lambda_k
+y_0,k the same point of the same edge or vertex on T's corners then (lambda its barycentric
+coordinates now), pen = max(-m . (p - q), 0), theta = g_0 / (g_0 + pen); the crossing's place
+is interpolated between the places then and now on T's planes, heights included (p = sum
+Lambda_k y_k + h n), and moved along nu onto T's plane (where the anchor is kept; along n
+where nu lies within 84 deg of T's plane, as the accepted history re-expresses a moved
+anchor), so that the slip, measured across nu as the friction measures it, is the way's part
+across nu after the crossing. Exact for a way straight relative to the lower face that crosses
+the edge's line (the gap linear over the step) with T's corners moved affinely; elsewhere a
+rule. Before it such a point did not land (anchored at its projection once the step was
+accepted): with g_0 T's plane's against a penetration to the edge, the hemisphere-plies
+Mindlin [0/90] run's slipped up to 0.090 mm against ways of at most 0.029 mm (docs/theory.md
+§9.3a). Its anchor is held fixed by the tangent over the landing step (dtheta and the
+anchor's motion 0 on its rows).
 
 The anchor moves with the state: dLambda_a/dz = theta dLambda/dz + (Lambda - Lambda_0)
 dtheta/dz over z = (p, y_1, y_2, y_3) (T's corners now), with dtheta/dz = g_0 / (g_0 +
@@ -54,7 +69,7 @@ if TYPE_CHECKING:
     from elements.ply_projection import Facing
     from femcore.state import State
 
-__all__ = ["Landing", "landed", "landing", "plane_places"]
+__all__ = ["Landing", "edge_crossing", "landed", "landing", "plane_places"]
 
 
 @dataclass(frozen=True)
@@ -77,6 +92,11 @@ class Landing:
         T's unit normal now.
     height : (r,) float
         h = n . (p - y_1), mm.
+    edge : (r,) bool or None
+        The rows whose gap is to an edge or a vertex (``edge_crossing``); None: none.
+    place : (r, 3) float or None
+        Their anchors' barycentric places Lambda_a on T (the other rows' not used); None:
+        no such row.
     """
 
     rows: np.ndarray
@@ -87,6 +107,8 @@ class Landing:
     gradients: np.ndarray
     normal: np.ndarray
     height: np.ndarray
+    edge: np.ndarray | None = None
+    place: np.ndarray | None = None
 
     def anchor_motion(self, gap_gradient: np.ndarray) -> np.ndarray:
         """(r, 3, 4, 3) dLambda_a,k/dz over z = (p, y_1, y_2, y_3), 1/mm, given dg/dz
@@ -102,6 +124,8 @@ class Landing:
             )
         motion *= self.theta[:, None, None, None]
         motion += (self.rate * self.dtheta[:, None])[:, :, None, None] * gap_gradient[:, None]
+        if self.edge is not None:  # an edge gap's anchor held fixed over the step (docstring)
+            motion[self.edge] = 0.0
         return motion
 
 
@@ -130,8 +154,6 @@ def landing(
     if sides is None or block.friction <= 0.0:
         return None
     lands = facing.touching & (history.triangle < 0) & (sides.sides != TOUCHING)
-    if facing.on_edge is not None:  # gaps to an edge or a vertex: not T's plane's (docstring)
-        lands &= ~facing.on_edge
     rows = np.flatnonzero(lands)
     if len(rows) == 0:
         return None
@@ -162,7 +184,75 @@ def landing(
             plane_places(now, _onto_plane(now, p, along))[0]
             - plane_places(before, _onto_plane(before, then, along))[0]
         )
-    return Landing(rows, rate, theta, dtheta, weights, gradients, normal, height)
+    edge, place = None, None
+    if facing.on_edge is not None and facing.on_edge[rows].any():
+        # gaps to an edge or a vertex: theta and the anchor by that gap (docstring)
+        edge = facing.on_edge[rows]
+        at = np.flatnonzero(edge)
+        place = np.full((len(rows), 3), np.nan)
+        # the gap's zero through q: normal to nu, or T's plane where T's normal signs the gap
+        # (beside a growth's edge, at an outline vertex, on a cut: docstring)
+        zero = facing.normal[rows[at]]
+        if facing.on_growth is not None and facing.joined is not None:
+            plane = facing.on_growth[rows[at]] & ~facing.joined[rows[at]]
+            zero = np.where(plane[:, None], normal[at], zero)
+        theta[at], place[at] = edge_crossing(
+            before[at], now[at], then[at], p[at], facing.weights[rows[at]],
+            facing.normal[rows[at]], zero,
+        )  # fmt: skip
+        dtheta[at] = 0.0
+    return Landing(rows, rate, theta, dtheta, weights, gradients, normal, height, edge, place)
+
+
+def edge_crossing(
+    before: np.ndarray,
+    now: np.ndarray,
+    then: np.ndarray,
+    point: np.ndarray,
+    feature: np.ndarray,
+    normal: np.ndarray,
+    zero: np.ndarray,
+) -> tuple[np.ndarray, np.ndarray]:
+    """(theta (r,), place (r, 3)): where the way of points landing on an edge or a vertex of
+    their triangles T crossed their gap's zero (module docstring), and the barycentric place
+    on T now of the anchor there.
+
+    Parameters
+    ----------
+    before, now : (r, 3, 3) float
+        T's corners at the last accepted state and now, mm.
+    then, point : (r, 3) float
+        The points' contact points then (p_0) and now (p), mm.
+    feature : (r, 3) float
+        The barycentric coordinates on T of the closest point q now (``Facing.weights``).
+    normal : (r, 3) float
+        nu = (p - q) / g now (``Facing.normal``), across which the slip is measured.
+    zero : (r, 3) float
+        The unit normal m of the gap's zero through q: nu, or T's normal where T's normal
+        signs the gap (its zero T's plane).
+
+    Returns
+    -------
+    theta = g_0 / (g_0 + pen), g_0 = max(m . (p_0 - q_0), 0), q_0 = sum_k lambda_k y_0,k the
+    same point of T then, pen = max(-m . (p - q), 0) (1 where both vanish); and Lambda_a, the
+    crossing's place (the places and heights then and now on T's planes, interpolated by
+    theta) moved along nu onto T's plane (along T's normal where |nu . n| <= 0.1).
+    """
+    q0 = np.einsum("rk,rki->ri", feature, before)
+    q = np.einsum("rk,rki->ri", feature, now)
+    g0 = np.maximum(np.einsum("ri,ri->r", zero, then - q0), 0.0)
+    way = g0 + np.maximum(-np.einsum("ri,ri->r", zero, point - q), 0.0)
+    theta = np.where(way > 0.0, g0 / np.where(way > 0.0, way, 1.0), 1.0)
+    old, old_height = plane_places(before, then)
+    new, height = plane_places(now, point)
+    place = old + theta[:, None] * (new - old)
+    rise = old_height + theta * (height - old_height)  # the crossing's height over T's plane
+    plane, _, gradients = triangle_frames(now)
+    tilt = np.einsum("ri,ri->r", plane, normal)
+    steep = np.abs(tilt) > 0.1
+    along = np.where(steep, rise / np.where(steep, tilt, 1.0), 0.0)
+    place -= along[:, None] * np.einsum("rki,ri->rk", gradients, normal)
+    return theta, place
 
 
 def _onto_plane(corners: np.ndarray, point: np.ndarray, direction: np.ndarray) -> np.ndarray:
@@ -220,4 +310,6 @@ def landed(
     # face; on a curved one (the anchor on T's Phong patch) the plane's place is off the
     # projection, and a point landing along the normal would slip by that difference.
     anchor[found.rows] = facing.weights[found.rows] - (1.0 - found.theta)[:, None] * found.rate
+    if found.edge is not None and found.place is not None:  # at its crossing (``edge_crossing``)
+        anchor[found.rows[found.edge]] = found.place[found.edge]
     return replace(history, triangle=triangle, anchor=anchor)

@@ -72,3 +72,57 @@ def static_histories(
     result = Static(increments=increments, progress=False).solve(model)
     assert result.converged and len(committed) == increments
     return committed
+
+
+def folded_plies(gap: float, uy: float, uz: float, dip: float, unknown: bool = True) -> Model:
+    """A lower ply (6 x 6 mm in 3 x 3 cells, held but a far corner free along z) whose nodes
+    on x = 2 lie ``dip`` mm below the rest (negative: above): a valley (a ridge) whose two
+    faces meet on the mesh's edges along that line, their slopes dip / 2; and an upper ply of
+    one triangle at its nodes (``rule="nodes"``), tilted so that one node's contact point
+    lies ``gap`` mm right above the fold's edge line (on the offset faces; negative: below
+    it) and the others over half a millimetre clear, carried by ``uy`` along the edge and
+    ``uz`` mm over the run (linear), its directors held. The carried point moves in the plane
+    normal to the edge through its line: it faces the edge (``Facing.on_edge``, g = +-|p - q|
+    along nu = +z) below a valley's line and above a ridge's, a face's plane above a valley's
+    and below a ridge's, and passes through the line where its gap is zero. The contact: mu
+    MU, penalty PENALTY, no smoothing. ``unknown``: the far corner free (Static's unknown; the
+    explicit step at the runs' pace is unstable there, and the fold's round-off forces, 1e-38
+    N, seed it: held for an explicit run)."""
+    lower = Mesh.rectangle(6.0, 6.0, nx=3, ny=3)
+    points = lower.points.copy()
+    points[np.isclose(points[:, 0], 2.0), 2] -= dip
+    corner = np.array([[2.0, 2.3, 0.0], [4.0, 2.3, 1.0], [3.0, 4.0, 1.0]])
+
+    def built(shift: np.ndarray) -> Model:
+        count, cells = len(points), len(lower.triangles)
+        mesh = Mesh(
+            np.vstack([points, corner + shift]),
+            triangles=np.vstack([lower.triangles, [[count, count + 1, count + 2]]]),
+            node_sets={"lower": np.arange(count), "upper": np.arange(count, count + 3)},
+            element_sets={"lower": np.arange(cells), "upper": np.array([cells])},
+        )
+        model = Model(mesh)
+        shell = ElasticShell(E=70e3, nu=0.3, thickness=2 * HALF, density=2.7e-9)
+        for name in ("lower", "upper"):
+            model.add(MindlinShell(shell), cells=name)
+        contact = PlyContact(
+            "upper", "lower", HALF, HALF, penalty=PENALTY, rule="nodes", smoothing=0.0,
+            friction=MU,
+        )  # fmt: skip
+        model.interact(contact)
+        model.fix(np.arange(count - 1) if unknown else np.arange(count))
+        if unknown:
+            model.fix([count - 1], ("ux", "uy", "alpha", "beta"))
+        model.fix(np.arange(count, count + 3), ("alpha", "beta"))
+        model.displace(np.arange(count, count + 3), ux=0.0, uy=uy, uz=uz, amplitude="linear")
+        return model
+
+    # the low node's contact point and the valley's edge line (from its end at (2, 2)), on
+    # the offset faces of the reference
+    model = built(np.zeros(3))
+    block = model.compile().interactions[0]
+    faces, corners = block._faces(model.compile().initial_state())
+    low = int(np.flatnonzero(block.above == len(points))[0])
+    at = np.flatnonzero(np.all(np.isclose(points[lower.triangles], [2.0, 2.0, -dip]), axis=2))
+    edge = corners.reshape(-1, 3)[at[0]]
+    return built(edge - faces[low] + np.array([0.0, 0.0, gap]) + [0.0, 2.3 - edge[1], 0.0])

@@ -178,25 +178,6 @@ def test_a_frictionless_contact_never_asks_for_a_landing(monkeypatch):
     block.update_history(state, history)
 
 
-def test_a_point_whose_gap_is_to_an_edge_does_not_land():
-    """The rule's theta compares the point's distance to T's plane then with its penetration
-    now; a gap to an edge or a vertex of the lower face (``Facing.on_edge``) is measured along
-    the direction to the closest point, not T's normal, so the two do not compare and the slip
-    from such an anchor, taken across that direction, is not the way after the touch. Measured
-    on the hemisphere-plies Mindlin [0/90] run (validation/studies/hemisphere_plies_landing.py):
-    493 of its 22443 landings faced an edge, T's normal and the facing one 87 degrees apart in
-    the median, theta 0.03 in the median, their slip up to 0.090 mm against ways of at most
-    0.029 mm and opposite to the way in some (cosine down to -0.999). Such a point lands as
-    before the rule: anchored at its projection once the step is accepted."""
-    block, state, history = landing_plies(0.05, "normal law")
-    facing = block.facing(state)
-    edge = np.zeros(len(facing.gap), dtype=bool)
-    edge[np.flatnonzero(facing.touching)[::3]] = True
-    found = ply_landing.landing(block, state, history, dataclasses.replace(facing, on_edge=edge))
-    assert found is not None
-    np.testing.assert_array_equal(found.rows, np.flatnonzero(facing.touching & ~edge))
-
-
 @pytest.mark.parametrize("surface", ["flat", "curved"])
 def test_a_point_landing_along_the_facing_normal_does_not_slip(surface):
     """Each point of a ply pair coming straight down along its facing normal (its face point

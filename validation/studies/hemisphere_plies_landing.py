@@ -26,10 +26,16 @@ from typing import Any
 
 import numpy as np
 
-from elements import ply_block, ply_friction, ply_landing
+from elements import ply_block, ply_departure, ply_friction, ply_landing
 from elements.ply_sides import TOUCHING
 from validation.studies import hemisphere_plies_run as study
 from validation.studies.hemisphere_plies_setup import HOLDER_FORCES
+
+
+def _edges(found: Any) -> np.ndarray:
+    """(r,) bool: the landing points ``found`` whose gap is to an edge or a vertex."""
+    edge = getattr(found, "edge", None)
+    return np.zeros(len(found.rows), dtype=bool) if edge is None else edge
 
 
 class _Probe:
@@ -45,7 +51,12 @@ class _Probe:
         self.slip: list[np.ndarray] = []
         self.cosine: list[np.ndarray] = []
         self.work = 0.0
+        self.edges: list[np.ndarray] = []  # per landing step: its points facing an edge
+        self.departures = [0, 0]  # points leaving by a plane's gap, by an edge's
+        self.departure_slip = [0.0, 0.0]  # their largest slip, mm
+        self.dissipated: dict[int, float] = {}
         self._landing = ply_landing.landing
+        self._departure = ply_departure.departure
         self._landed = ply_landing.landed
         self._update = ply_block.PlyContactBlock.update_history
 
@@ -61,6 +72,15 @@ class _Probe:
             _, y = block._faces(state)
             way = np.einsum("rk,rki->ri", found.rate, y[facing.triangle[rows]])
             slip = np.linalg.norm(sliding.slip[rows], axis=1)
+            # (a point facing an edge: its way off T's plane too, the heights' change)
+            heights = (
+                found.height
+                - ply_landing.plane_places(
+                    history.sides.corners[facing.triangle[rows]], history.sides.faces[rows]
+                )[1]
+            )
+            edge = _edges(found)
+            way = np.where(edge[:, None], way + heights[:, None] * found.normal, way)
             n = facing.normal[rows]
             along = way - np.sum(way * n, axis=1)[:, None] * n  # the way's tangential part
             size = np.linalg.norm(along, axis=1) * slip
@@ -70,10 +90,21 @@ class _Probe:
             spring = np.where(sliding.spring[rows] > 0, sliding.spring[rows], 1.0)
             past = np.where(sliding.sliding[rows], slip - limit / spring, 0.0)
             self.work += float(np.sum(0.5 * limit * past))
+            self.edges.append(_edges(found))
             self.theta.append(found.theta)
             self.way.append(np.linalg.norm(way, axis=1))
             self.slip.append(slip)
         return out
+
+    def departure(self, block, y, history, facing):  # noqa: ANN001, ANN201
+        rows, slip = self._departure(block, y, history, facing)
+        if self.committing and len(rows) and facing.on_edge is not None:
+            edge = facing.on_edge[rows]
+            for k, picked in enumerate((~edge, edge)):
+                self.departures[k] += int(picked.sum())
+                if picked.any():
+                    self.departure_slip[k] = max(self.departure_slip[k], float(slip[picked].max()))
+        return rows, slip
 
     def install(self) -> None:
         probe = self
@@ -91,9 +122,11 @@ class _Probe:
                 count += ~was & now
                 gone = probe.leaves.setdefault(id(block), np.zeros(len(was), dtype=int))
                 gone += was & ~now
+            probe.dissipated[id(block)] = float(getattr(new, "dissipated", 0.0))
             return new
 
         ply_landing.landing, ply_landing.landed = self.landing, self.landed  # type: ignore[assignment]
+        ply_departure.departure = self.departure  # type: ignore[assignment]
         ply_block.PlyContactBlock.update_history = update_history  # type: ignore[method-assign]
 
 
@@ -129,8 +162,21 @@ def main() -> None:
         f"  landings {lands.sum()} and leaves {leaves.sum()} of {len(lands)} points: "
         f"{np.sum(lands >= 50)} landed 50 times or more, at most {lands.max()}"
     )
+    print(f"  ply friction records {sum(probe.dissipated.values()):.4f} N mm")
+    print(
+        f"  departures by a plane's gap {probe.departures[0]} (slip at most "
+        f"{probe.departure_slip[0]:.4f} mm), by an edge's {probe.departures[1]} (at most "
+        f"{probe.departure_slip[1]:.4f} mm)"
+    )
     if probe.theta:
         theta, way, slip = (np.concatenate(x) for x in (probe.theta, probe.way, probe.slip))
+        edge = np.concatenate(probe.edges)
+        if edge.any():
+            print(
+                f"  landing steps facing an edge {edge.sum()}: theta 10/50/90 % "
+                f"{np.percentile(theta[edge], [10, 50, 90]).round(3)}, way at most "
+                f"{way[edge].max():.4f} mm, slip at most {slip[edge].max():.4f} mm"
+            )
         deciles = np.percentile(theta, [10, 50, 90])
         print(
             f"  landing steps {len(theta)}: theta 10/50/90 % {deciles.round(3)}, theta = 0 in "
