@@ -595,10 +595,9 @@ class PlyContactBlock(InteractionBlock):
         if self.curved and CURVED_TANGENT:  # the curved loads' exact derivative
             facing = self._held(state, history)
             curved: list[TangentPart] = [ply_curved_tangent.curved_tangent(self, state, facing)]
-            if self._frictional(history):  # a landing anchor held fixed (ply_landing.py)
-                landed = ply_landing.landed(self, state, history, facing)
+            if self._frictional(history):  # a landing anchor moving (ply_landing.py)
                 curved.append(
-                    ply_curved_friction.curved_friction_tangent(self, state, landed, facing)
+                    ply_curved_friction.curved_friction_tangent(self, state, history, facing)
                 )
             return curved
         facing = self._held(state, history, second=True)

@@ -26,7 +26,7 @@ import dataclasses
 import numpy as np
 import pytest
 
-from elements import ply_landing, ply_projection
+from elements import ply_curved_friction, ply_curved_tangent, ply_landing, ply_projection
 from elements.ply_friction import PlyFrictionHistory
 from elements.ply_sides import CLEAR, PlySides
 from femcore import Model
@@ -34,7 +34,7 @@ from femcore.interaction_checks import check_tangent
 from tests.explicit_runs import run_explicitly
 from tests.ply_pair import MU, moved_plies, static_histories
 from tests.test_interaction_conformance import plies
-from tests.test_ply_curved_friction import _anchored
+from tests.test_ply_curved_friction import _anchored, _compiled_and_reference
 
 G0 = 0.0213  # mm between the faces at the start
 VX, VZ = 2.5, 0.1  # mm over the run, along x and down
@@ -145,6 +145,80 @@ def test_the_tangent_at_a_landing_state_carries_the_anchors_motion(smoothing, st
     unsided = dataclasses.replace(history, sides=None)
     assert block.strain_energy(state, history) > block.strain_energy(state, unsided)
     assert check_tangent(block, state, history)
+
+
+def curved_landing_plies(faces: str = "normal", smoothing=None, mirrored: bool = False):
+    """(block, state, history): the [0/45] pair on the 50-mm sphere of
+    tests/test_ply_curved_friction.py (curved faces, friction 0.3; with ``mirrored`` its
+    mirrored pass), and a history where no point touched, each face point then 0.3 mm off
+    along its facing normal now and 0.058 mm aside (even points: they stick) or 0.23 mm
+    (odd: they slide), the lower faces where they are now."""
+    block, state, _ = _anchored(faces, smoothing, stuck_only=False, mirrored=mirrored)
+    facing = block.facing(state)
+    count = len(facing.gap)
+    faces_now, corners = block._faces(state)
+    aside = np.where(np.arange(count) % 2, 4.0, 1.0)[:, None] * np.array([0.05, -0.03, 0.0])
+    then = faces_now + aside + 0.3 * facing.normal
+    sides = PlySides(np.full(count, CLEAR, dtype=np.int8), then, corners)
+    nowhere = np.full((count, 3), np.nan)
+    history = PlyFrictionHistory(
+        np.full(count, -1), nowhere, np.zeros(count), np.zeros(count), 0.0, sides
+    )
+    return block, state, history
+
+
+@pytest.mark.parametrize(
+    "faces, smoothing, mirrored",
+    [("normal", None, False), ("normal", 0.05, False), ("director", None, False),
+     ("normal", None, True)],
+    ids=["deeper", "on the ramp", "faces along the directors", "mirrored"],
+)  # fmt: skip
+def test_the_curved_faces_tangent_at_a_landing_state_carries_the_anchors_motion(
+    faces, smoothing, mirrored
+):
+    """Every touching point of the curved pair lands (41, 54 in the mirrored pass; theta
+    0.61-1.0), about half stuck and half sliding: the tangent against central differences
+    of the loads at every node, translations and director turns (the conformance kit's
+    ``check_tangent``, 1e-6 of the largest entry; step 1e-7 mm as in
+    tests/test_ply_curved_friction.py). Measured 3.6e-8 to 7.4e-8 of the largest entry (the
+    complex step's projection and the differences' truncation); with the landing anchor
+    held fixed, off by 32 to 45 of the largest 52 to 75 (fails)."""
+    block, state, history = curved_landing_plies(faces, smoothing, mirrored)
+    facing = block.facing(state)
+    found = ply_landing.landing(block, state, history, facing)
+    assert found is not None and np.array_equal(found.rows, np.flatnonzero(facing.touching))
+    sliding = block.friction_state(state, ply_landing.landed(block, state, history, facing))
+    assert sliding.stuck.sum() >= 15 and sliding.sliding.sum() >= 15
+    assert check_tangent(block, state, history, step=1e-7)
+
+
+def test_the_curved_landing_anchors_motion_compiled_is_the_numpy_references():
+    """The compiled local loads (elements/ply_curved_friction_kernels.py) against
+    ``local_loads_numpy`` at every complex step of the landing points' data: within 1e-12 of
+    the largest load and derivative; the real loads are those of the anchors given, to the
+    bit (the landing's motion enters the imaginary parts only)."""
+    block, state, history = curved_landing_plies(smoothing=0.05)
+    facing = block.facing(state)
+    found = ply_landing.landing(block, state, history, facing)
+    landed = ply_landing.landed(block, state, history, facing, found)
+    sliding = block.friction_state(state, landed, facing)
+    surface = ply_curved_tangent.surface_normals(block, state)
+    _, _, _, _, data, arguments = ply_curved_friction._frictional_points(
+        block, state, sliding, landed, facing, surface, found
+    )
+    assert arguments[-2].all()  # every frictional point lands
+    held = arguments[:-2] + (np.zeros_like(arguments[-2]), arguments[-1])
+    moving = _compiled_and_reference(block, data, arguments)
+    for ours, theirs in zip(moving, _compiled_and_reference(block, data, held)):
+        assert np.array_equal(ours, theirs)
+    size = data.shape[1]
+    stepped = np.repeat(data, size, axis=0).astype(complex)
+    stepped[np.arange(len(stepped)), np.tile(np.arange(size), len(data))] += 1j * 1e-30
+    repeated = tuple(np.repeat(a, size, axis=0) for a in arguments)
+    compiled, reference = _compiled_and_reference(block, stepped, repeated)
+    for part in ("real", "imag"):
+        ours, theirs = getattr(compiled, part), getattr(reference, part)
+        np.testing.assert_allclose(ours, theirs, atol=1e-12 * np.abs(theirs).max())
 
 
 def test_a_point_touching_at_the_last_state_without_an_anchor_does_not_land():
