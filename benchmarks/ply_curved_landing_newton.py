@@ -21,10 +21,10 @@ Measured (mu 0.3), iterations per increment [landing points]:
     1 mm in 8  held  4 4 3 3 3 3 3 3 (26)  exact  3 3 3 3 3 3 3 3 (24)  [18 16 9 2 2 0 0 0]
     3 mm in 6  held  4 4 3 3 3 3 (20)      exact  3 3 3 3 3 3 (18)      [22 9 0 0 0 0]
 
-the landing increments' last steps r_k+1 / r_k^2 0.08-1.3 held (linear: 5.9e-4 -> 2.9e-8 ->
-4.6e-12, 6.1e-7 -> 2.4e-11), 0.002-0.02 exact (5.9e-4 -> 2.1e-9, 2.0e-3 -> 9.6e-9); the final
-positions the same to 1e-15 mm. The code before (the main tree, run apart) gives the held
-line's figures to the digit.
+the landing increments' last steps r_k+1 / r_k^2 0.08-1.3 held (linear: 2.9e-4 -> 1.2e-8,
+5.9e-4 -> 2.9e-8 -> 4.6e-12, 7.7e-5 -> 7.7e-9), 0.001-0.02 exact (2.9e-4 -> 1.0e-10, 5.9e-4
+-> 2.1e-9, 2.0e-3 -> 9.6e-9); the final positions the same to 1e-15 mm. The code before (the
+main tree, run apart) gives the held line's figures to the digit.
 
 Run: python benchmarks/ply_curved_landing_newton.py [mu]
 """

@@ -32,6 +32,15 @@ tests' [0/45] pair on the 50-mm sphere, 1.9e-7 with gaps of 0.35 mm on a 12-mm r
 enough for Newton, not to rounding). The stick/slip state and the
 normal law's branch are those of the real point. The tangent then carries the local
 derivative to the nodes (``carried_tangent``).
+
+A point landing in the step (elements/ply_landing.py) has its anchor where its way crossed
+the face, Lambda_a = Lambda - (1 - theta)(Lambda_nu - Lambda_nu,0), which moves with the
+state: the complex steps make it again from v (``landing_anchor``: Lambda the projection
+made again above, its normal nu, the places on the facing triangle's planes now and then
+along nu, theta = g_0 / (g_0 + pen) with pen from the gap; the places then and g_0 held), and
+take its motion alone (the imaginary part) onto the anchor given, so the loads stay those of
+the given anchor to the bit and the tangent carries dLambda_a/dv through the anchor patch's
+Phong map.
 """
 
 from __future__ import annotations
