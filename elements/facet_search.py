@@ -496,9 +496,10 @@ def candidate_rows(
     row; spheres (m, 4), its centroid (f, 3) and the radius (f,) of its bounding sphere)."""
     rows = np.empty((len(facets), 4, 3))
     spheres = np.empty((len(facets), 4))
-    # One compiled pass of copies (the same floats as numpy's gathers, which took 1.5 ms on
-    # the 8200 candidates of the hemisphere die's lists, made anew at each of a forming run's
-    # some 300-500 searches: benchmarks/report_gc.py).
+    # One compiled pass of copies, the same floats as numpy's gathers: 0.45 against 1.29 ms
+    # on the hemisphere die's 72001 facets and 8200 candidates (a default run's mean lists),
+    # load 5.6 (1.46 against 6.43 at 8.7); made anew at each search, 280 and 518 times in
+    # the forming case's fibrous and Mindlin runs (benchmarks/report_gc.py --rows).
     candidate_copies(facets, corners, normals, centroids, radius, rows, spheres)
     return rows, spheres
 
