@@ -3,27 +3,30 @@ garbage collector's walks (validation/report.py ``_settled``): a full collection
 then walks what the cases made, not the libraries' objects."""
 
 import gc
-import multiprocessing
-import os
-from concurrent.futures import ProcessPoolExecutor
 
 from validation import report
 
 
-def test_a_worker_freezes_what_its_imports_made():
-    """A worker started as the report starts its pool holds some 10^5 frozen objects (the
-    case modules, numba, scipy, matplotlib: 137k measured) and none left for a full
-    collection to walk but what it made since; this process, not a worker, froze none."""
-    context = multiprocessing.get_context("spawn")
-    with ProcessPoolExecutor(
-        1, mp_context=context, initializer=report._start_worker, initargs=(os.getpid(),)
-    ) as pool:
-        frozen, walked = pool.submit(_frozen_and_walked).result(timeout=300)
+def test_settling_freezes_what_the_process_holds_out_of_full_collections():
+    """After ``_settled`` this process's objects (pytest, numpy, numba, the project: some
+    10^5) are frozen and a full collection walks none of them but what was made since."""
+    assert gc.get_freeze_count() == 0
+    try:
+        report._settled()
+        frozen, walked = gc.get_freeze_count(), len(gc.get_objects())
+    finally:
+        gc.unfreeze()
     assert frozen > 50_000
     assert walked < frozen / 10
     assert gc.get_freeze_count() == 0
 
 
-def _frozen_and_walked() -> tuple[int, int]:
-    """(the objects frozen, those a full collection would walk) in the calling process."""
-    return gc.get_freeze_count(), len(gc.get_objects())
+def test_a_worker_settles_after_it_ties_its_end_to_the_reports(monkeypatch):
+    """The pool's initializer (``_start_worker``, the one ``_run_all`` gives its pool) ties the
+    worker's end to the report's process first (a worker whose report is gone ends at once,
+    before the full collection of its settling), then settles."""
+    calls: list[tuple] = []
+    monkeypatch.setattr(report, "_end_with", lambda parent: calls.append(("end", parent)))
+    monkeypatch.setattr(report, "_settled", lambda: calls.append(("settled",)))
+    report._start_worker(1234)
+    assert calls == [("end", 1234), ("settled",)]
