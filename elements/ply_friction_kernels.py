@@ -35,7 +35,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from elements import ply_departure, ply_friction
+from elements import ply_departure, ply_departure_kernels, ply_friction
 from elements.jit import jit_lanes, prange
 from elements.kept_bits import same_bits
 from elements.kernel_inputs import read_only, writable
@@ -392,11 +392,16 @@ def _kept_history(block, history, facing, sides, sliding, moved, following, y):
     summed by numpy; ``following``, the mapping from it, kept on the block for the next
     step's loads (module docstring), as long as the facing and the penalties are these."""
     triangle, anchor, slipped, dissipation = moved
-    rows, way = ply_departure.departure(block, y, history, facing)
-    if len(rows):  # the numpy reference's records, the same bits (slid 0 there before)
-        slipped[rows] = history.slip[rows] + way
-        force = block.friction * 0.5 * (sliding.pressing[rows] + history.pressing[rows])
-        dissipation[rows] = force * way
+    if ply_departure_kernels.COMPILED:  # the same bits (elements/ply_departure_kernels.py)
+        ply_departure_kernels.departed(
+            block, y, history, facing, sliding.pressing, slipped, dissipation
+        )
+    else:
+        rows, way = ply_departure.departure(block, y, history, facing)
+        if len(rows):  # the numpy reference's records (slid 0 there before)
+            slipped[rows] = history.slip[rows] + way
+            force = block.friction * 0.5 * (sliding.pressing[rows] + history.pressing[rows])
+            dissipation[rows] = force * way
     dissipated = history.dissipated + float(np.sum(dissipation))
     updated = PlyFrictionHistory(triangle, anchor, slipped, sliding.pressing, dissipated, sides)
     block._next_sliding = (updated, facing, _law(block), following, _bits(updated))
