@@ -153,7 +153,7 @@ def _departure(
 _departure_compiled = jit_lanes(_departure)
 
 
-def _call(block, y, history, facing, rows, pressing, slipped, dissipation, friction) -> np.ndarray:
+def _call(y, history, facing, rows, pressing, slipped, dissipation, friction) -> np.ndarray:
     """The kernel over ``rows`` (r,): the ways (r,), NaN where not lifted."""
     sides = history.sides
     way = np.empty(len(rows))
@@ -185,7 +185,7 @@ def departure_slip(
     if len(rows) == 0:
         return rows, np.zeros(0)
     scratch = np.empty(0)
-    way = _call(block, y, history, facing, rows, scratch, scratch, scratch, 0.0)
+    way = _call(y, history, facing, rows, scratch, scratch, scratch, 0.0)
     lifted = way == way
     return rows[lifted], way[lifted]
 
@@ -205,8 +205,6 @@ def departed(
     they left, ``dissipation`` (P,) N mm mu (N_0 + N) / 2 times that slip, N = ``pressing``
     (P,) the normal forces now (elements/ply_departure.py; as
     elements/ply_friction_kernels.py wrote them from its numpy reference, the same bits)."""
-    if history.sides is None or block.friction <= 0.0:
-        return
-    rows = ply_departure.leaving(block, history, facing)
+    rows = ply_departure.leaving(block, history, facing)  # none without friction or sides
     if len(rows):
-        _call(block, y, history, facing, rows, pressing, slipped, dissipation, block.friction)
+        _call(y, history, facing, rows, pressing, slipped, dissipation, block.friction)
