@@ -9,14 +9,17 @@ alternating, best of 15; then the departure alone, numpy and compiled, and the m
 load.
 
     python benchmarks/ply_departure_cost.py
-    python benchmarks/ply_departure_cost.py --case /tmp/reference [--turns 2]
+    python benchmarks/ply_departure_cost.py --case /tmp/reference [--turns 2] [--bits]
 
 ``--case REF``: the report's hemisphere-plies case's four runs (8 cells, 20 N; validation/
 studies/hemisphere_plies_run.py ``run``) in fresh processes of this tree and of the tree REF
 (the code before, from ``git archive``), one numba thread each, alternating from one turn to
 the next, a warming run of each first (numba's caches: NUMBA_CACHE_DIR per tree); each run's
 CPU (its solve's process time) best of the turns, and whether the two trees' final positions
-are the same bits.
+are the same bits. With ``--bits``: short runs of the case's Mindlin [0/90] and fibrous [0/45]
+plies (6 cells, a few hundred steps, points landing and leaving at most steps) in both trees,
+whether their final positions and their energy and tool records (the friction's dissipation
+among them, step by step) are the same bits.
 
 Measured before the compiled pass (one process, load 0.8): no point leaving 0.94 / 0.92 ms
 against 0.92 / 0.92 ms without the departure (its masks 0.05 ms); the 3 points about a node
@@ -132,24 +135,48 @@ cpu = [value for key, value in parameters.items() if key.endswith("_cpu_time_s")
 digest = hashlib.sha256(result.positions.tobytes()).hexdigest()[:16]
 print(json.dumps({"cpu": cpu[0], "positions": digest}))
 """
+#: A short run of the case (6 cells; Mindlin [0/90] 405 steps, fibrous [0/45] 266): digests of
+#: its final positions and of its energy and tool records, step by step (friction among them).
+SHORT = """
+import hashlib, json, sys, tempfile, warnings
+from pathlib import Path
+warnings.simplefilter("ignore")
+sys.path.insert(0, ".")
+from validation.studies.hemisphere_plies_run import case_solver
+from validation.studies.hemisphere_plies_setup import LAYUPS, model
+name, kinematics, share = sys.argv[1], sys.argv[2], float(sys.argv[3])
+with tempfile.TemporaryDirectory() as folder:
+    records = Path(folder) / "history.csv"
+    result = case_solver(name, kinematics, share=share, history=records).solve(
+        model(6, LAYUPS[name], kinematics, 20.0)[1].compile()
+    )
+    table = records.read_bytes()
+print(json.dumps({
+    "positions": hashlib.sha256(result.positions.tobytes()).hexdigest()[:16],
+    "records": hashlib.sha256(table).hexdigest()[:16],
+    "steps": table.count(b"\\n") - 1,
+}))
+"""
+SHORT_RUNS = (("0/90", "mindlin", 0.03), ("0/45", "fibrous", 0.051))
 RUNS = (("0/90", "fibrous"), ("0/90", "mindlin"), ("0/45", "fibrous"), ("0/45", "mindlin"))
 
 
-def case(reference: Path, turns: int) -> None:
-    """The case's runs' CPU, this tree beside ``reference`` (module docstring)."""
+def case(reference: Path, turns: int, bits: bool = False) -> None:
+    """The case's runs' CPU, this tree beside ``reference``, or with ``bits`` the short
+    runs' digests of both (module docstring)."""
     import json
     import subprocess
 
     trees = {"this": HERE, "reference": reference.resolve()}
 
-    def once(tree: str, name: str, kinematics: str) -> dict:
+    def once(tree: str, *arguments: object, script: str = RUN) -> dict:
         environment = os.environ | {
             "NUMBA_NUM_THREADS": "1",
             "PYTHONPATH": str(trees[tree]),
             "NUMBA_CACHE_DIR": f"/tmp/numba_ply_departure_cost_{tree}",
         }
         done = subprocess.run(
-            [sys.executable, "-c", RUN, name, kinematics],
+            [sys.executable, "-c", script, *map(str, arguments)],
             cwd=trees[tree],
             env=environment,
             capture_output=True,
@@ -159,6 +186,16 @@ def case(reference: Path, turns: int) -> None:
         return json.loads(done.stdout.strip().splitlines()[-1])
 
     load = os.getloadavg()[0]
+    if bits:  # the short runs' digests, this tree's against the reference's
+        for name, kinematics, share in SHORT_RUNS:
+            digests = [once(tree, name, kinematics, share, script=SHORT) for tree in trees]
+            print(
+                f"[{name}] {kinematics} over {digests[0]['steps']} steps: final positions and "
+                f"records {'the same bits' if digests[0] == digests[1] else 'DIFFER'} "
+                f"({digests[0]} / {digests[1]})",
+                flush=True,
+            )
+        return
     for name, kinematics in RUNS:
         for tree in trees:  # numba's caches warmed
             once(tree, name, kinematics)
@@ -186,8 +223,9 @@ if __name__ == "__main__":
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--case", type=Path, help="the reference tree's root (git archive)")
     parser.add_argument("--turns", type=int, default=2)
+    parser.add_argument("--bits", action="store_true", help="the short runs' digests alone")
     arguments = parser.parse_args()
     if arguments.case is None:
         main()
     else:
-        case(arguments.case, arguments.turns)
+        case(arguments.case, arguments.turns, arguments.bits)
