@@ -2,8 +2,9 @@
 "A point's departure step"): for the points the departure's rule selects (``ply_departure.
 leaving``, numpy, kept in one place), each one's places on its anchor's triangle's plane then
 and now, theta = pen_0 / (pen_0 + g), its offset from its anchor where it left and that
-offset's length, written with its dissipation into the accepted history's records in one
-compiled call.
+offset's length, written with its dissipation into the accepted history's records: inside
+the fused history pass (elements/ply_friction_pass.py, the kernel's plain build run after the
+anchors are moved), or by one call of its own (``departed``) where the passes run apart.
 
 The numpy geometry (``ply_departure.departure``) made some twenty numpy calls on a few rows,
 at almost every step of a two-ply run whose flange points rest near zero gap and leave and

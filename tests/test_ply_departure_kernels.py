@@ -13,7 +13,7 @@ from types import SimpleNamespace
 import numpy as np
 import pytest
 
-from elements import ply_departure, ply_departure_kernels
+from elements import ply_departure, ply_departure_kernels, ply_friction_kernels
 from elements.ply_sides import CLEAR, TOUCHING, PlySides
 from tests.test_ply_departure import VX, VZ, lifted_plies
 
@@ -87,10 +87,13 @@ def test_the_compiled_departure_writes_the_numpy_records_to_the_bit():
     assert dissipation.tobytes() == expected_dissipation.tobytes()
 
 
-def test_the_history_pass_with_the_compiled_departure_keeps_the_numpy_records(monkeypatch):
+@pytest.mark.parametrize("fused", [True, False])
+def test_the_history_pass_with_the_compiled_departure_keeps_the_numpy_records(monkeypatch, fused):
     """The pressed pair carried and lifted in 40 accepted states (its points leave at 0.713
-    of the way): every history's slip and dissipation the same bits by the kernel and by
-    the numpy departure in the compiled history pass."""
+    of the way): every history's slip and dissipation the same bits by the kernel (in the
+    fused history pass, elements/ply_friction_pass.py, or called apart) and by the numpy
+    departure."""
+    monkeypatch.setattr(ply_friction_kernels, "FUSED", fused)
     histories = {}
     for compiled in (True, False):
         monkeypatch.setattr(ply_departure_kernels, "COMPILED", compiled)
