@@ -21,12 +21,25 @@ plies (6 cells, a few hundred steps, points landing and leaving at most steps) i
 whether their final positions and their energy and tool records (the friction's dissipation
 among them, step by step) are the same bits.
 
-Measured before the compiled pass (one process, load 0.8): no point leaving 0.94 / 0.92 ms
-against 0.92 / 0.92 ms without the departure (its masks 0.05 ms); the 3 points about a node
-leaving 1.12 ms against 0.92 (the pass 0.20 ms: its numpy calls' fixed cost); 400 points 1.41
-against 0.96 ms (0.47). On the hemisphere-plies case's fibrous [0/90] run (10 cells, 20 N)
-over half its stroke's time, whose points leave the lower face thousands of times, the run
-took 8.45 against 7.99 s of CPU (one process, alternating, best of 2, load 1.0).
+Measured (one thread; 2 cores shared with other jobs, load 7.2-9.6), the history update best
+of 15: no point leaving 1.00 / 1.14 ms with the compiled departure, 1.07 / 1.16 with the
+numpy one, 1.02 / 1.09 without (the rule's selection alone either way, 0.015 ms); the 3
+points about a node leaving 1.18 / 1.23 ms, 1.35 / 1.32, 1.07 / 1.06 without (the departure
+alone 0.042-0.044 ms compiled against 0.149-0.177 numpy); the band's 400 points 1.23 / 1.12,
+1.64 / 1.61, 1.05 / 1.04 (alone 0.094-0.098 against 0.40-0.44). Before the compiled pass
+(load 0.8): 0.94 / 0.92 ms with none leaving, 1.12 with 3, 1.41 with 400, 0.92-0.96 without.
+
+The case's runs (``--case``, 7f9c3d5 from git archive, best of 2 alternating turns, load
+6.3-9.4, the compiled departure then called apart from the fused pass): [0/90] fibrous 10.05
+s of CPU against 10.06, [0/90] Mindlin 34.61 against 35.30, [0/45] fibrous 13.34 against
+12.39, [0/45] Mindlin 19.14 against 18.87: 77.1 against 76.6 s, within the load's spread
+(a tree's two turns up to 29 % apart); every run's final positions the same bits. In one
+process, alternating, best of 4 (load 4.8-10): the first 15 % of the Mindlin [0/90] run's
+stroke 5.41 s against 6.11 with the numpy departure and the landing asked at each call, the
+first quarter of the fibrous [0/45] run 4.13 against 4.41. Where the time goes (the Mindlin
+[0/90] run over a tenth of its stroke, 6.0 s): the departure 0.18 s with the kernel (the
+selection's masks with it) against 0.40 s numpy, over 3502 history updates; the landing
+0.77 s (the accepted history's, where points land: its numpy calls, not compiled here).
 """
 
 from __future__ import annotations
@@ -161,7 +174,9 @@ SHORT_RUNS = (("0/90", "mindlin", 0.03), ("0/45", "fibrous", 0.051))
 RUNS = (("0/90", "fibrous"), ("0/90", "mindlin"), ("0/45", "fibrous"), ("0/45", "mindlin"))
 
 
-def case(reference: Path, turns: int, bits: bool = False) -> None:
+def case(
+    reference: Path, turns: int, bits: bool = False, only: tuple[str, ...] | None = None
+) -> None:
     """The case's runs' CPU, this tree beside ``reference``, or with ``bits`` the short
     runs' digests of both (module docstring)."""
     import json
@@ -196,7 +211,7 @@ def case(reference: Path, turns: int, bits: bool = False) -> None:
                 flush=True,
             )
         return
-    for name, kinematics in RUNS:
+    for name, kinematics in RUNS if only is None else (only,):
         for tree in trees:  # numba's caches warmed
             once(tree, name, kinematics)
         found: dict[str, list[dict]] = {tree: [] for tree in trees}
@@ -224,8 +239,10 @@ if __name__ == "__main__":
     parser.add_argument("--case", type=Path, help="the reference tree's root (git archive)")
     parser.add_argument("--turns", type=int, default=2)
     parser.add_argument("--bits", action="store_true", help="the short runs' digests alone")
+    parser.add_argument("--only", help="one run of the case, as LAYUP:KINEMATICS (0/90:mindlin)")
     arguments = parser.parse_args()
     if arguments.case is None:
         main()
     else:
-        case(arguments.case, arguments.turns, arguments.bits)
+        only = None if arguments.only is None else tuple(arguments.only.split(":"))
+        case(arguments.case, arguments.turns, arguments.bits, only)
