@@ -33,7 +33,9 @@ The case's runs (``--case``, 7f9c3d5 from git archive, best of 2 alternating tur
 6.3-9.4, the compiled departure then called apart from the fused pass): [0/90] fibrous 10.05
 s of CPU against 10.06, [0/90] Mindlin 34.61 against 35.30, [0/45] fibrous 13.34 against
 12.39, [0/45] Mindlin 19.14 against 18.87: 77.1 against 76.6 s, within the load's spread
-(a tree's two turns up to 29 % apart); every run's final positions the same bits. In one
+(a tree's two turns up to 29 % apart); every run's final positions the same bits. With the
+departure inside the fused pass (``--only 0/90:mindlin``, load 5.4-7.7): [0/90] Mindlin 32.33
+s against 33.56 (0.963; turns 32.33 / 32.82 against 33.56 / 34.33), the same bits. In one
 process, alternating, best of 4 (load 4.8-10): the first 15 % of the Mindlin [0/90] run's
 stroke 5.41 s against 6.11 with the numpy departure and the landing asked at each call, the
 first quarter of the fibrous [0/45] run 4.13 against 4.41. Where the time goes (the Mindlin
