@@ -49,7 +49,12 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from elements import ply_curved_friction_kernels, ply_landing, ply_projection, ply_surface
+from elements import (
+    ply_curved_friction_kernels,
+    ply_landing_kept,
+    ply_projection,
+    ply_surface,
+)
 from elements.ply_curved_hessian import gap_gradient_and_turning, phong_jacobian
 from elements.ply_curved_tangent import carried_loads, carried_tangent, surface_normals
 from femcore.assembly import SparseTangent
@@ -316,8 +321,7 @@ def curved_friction_tangent(
     docstring: the local derivative by the complex step), ``history`` the accepted one: the
     points landing in this step anchored where their way crossed the face, their anchors
     moving with the state (elements/ply_landing.py)."""
-    found = ply_landing.landing(block, state, history, facing)
-    history = ply_landing.landed(block, state, history, facing, found)
+    found, history = ply_landing_kept.kept_landing(block, state, history, facing)
     sliding = block.friction_state(state, history, facing)
     surface = surface_normals(block, state)
     _, nodes, corner, offset, data, arguments = _frictional_points(

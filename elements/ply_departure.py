@@ -41,7 +41,26 @@ if TYPE_CHECKING:
     from elements.ply_friction import PlyFrictionHistory
     from elements.ply_projection import Facing
 
-__all__ = ["departure"]
+__all__ = ["departure", "leaving"]
+
+
+def leaving(block: PlyContactBlock, history: PlyFrictionHistory, facing: Facing) -> np.ndarray:
+    """(r,) int the rows of the points of the ply contact ``block`` whose departure's slip is
+    counted in the step from the accepted ``history`` to the state of ``facing`` (the rule's
+    selection, module docstring; the numpy ``departure`` and the compiled pass,
+    elements/ply_departure_kernels.py, both take it): anchored then, touching then by their
+    side and not now, their gap now not to an edge or a vertex, their point now finite. The
+    ones among them with no gap to their anchor's triangle's plane now are left out after
+    (not lifted off it). None without friction or sides."""
+    sides = history.sides
+    if sides is None or block.friction <= 0.0:
+        return np.zeros(0, dtype=np.int64)
+    # (the anchored points are few to test further: a step where none leaves costs a mask)
+    rows = np.flatnonzero((history.triangle >= 0) & ~np.asarray(facing.touching, dtype=bool))
+    rows = rows[sides.sides[rows] == TOUCHING]
+    if facing.on_edge is not None:  # gaps to an edge or a vertex: not T's plane's
+        rows = rows[~facing.on_edge[rows]]
+    return rows[np.all(np.isfinite(facing.face[rows]), axis=1)]
 
 
 def departure(
@@ -52,17 +71,9 @@ def departure(
     sides held; the offset lower corners ``y`` (m, 3, 3) there, mm), and each one's slip in
     that step up to where it left (module docstring). No rows without friction or sides."""
     sides = history.sides
-    none = np.zeros(0, dtype=np.int64)
-    if sides is None or block.friction <= 0.0:
-        return none, np.zeros(0)
-    # (the anchored points are few to test further: a step where none leaves costs a mask)
-    rows = np.flatnonzero((history.triangle >= 0) & ~np.asarray(facing.touching, dtype=bool))
-    rows = rows[sides.sides[rows] == TOUCHING]
-    if facing.on_edge is not None:  # gaps to an edge or a vertex: not T's plane's
-        rows = rows[~facing.on_edge[rows]]
-    rows = rows[np.all(np.isfinite(facing.face[rows]), axis=1)]
-    if len(rows) == 0:
-        return none, np.zeros(0)
+    rows = leaving(block, history, facing)
+    if sides is None or len(rows) == 0:
+        return rows, np.zeros(0)
     triangle = history.triangle[rows]
     before, now = sides.corners[triangle], y[triangle]
     then, p = sides.faces[rows], facing.face[rows]
