@@ -21,7 +21,7 @@ from elements import (
     ply_face_points,
     ply_friction,
     ply_friction_kernels,
-    ply_landing,
+    ply_landing_kept,
     ply_load_kernels,
     ply_point_tangent,
     ply_projection,
@@ -523,7 +523,7 @@ class PlyContactBlock(InteractionBlock):
     def internal_force(self, state: State, history: Any = None):
         facing = self._held(state, history)
         if self._frictional(history):
-            history = ply_landing.landed(self, state, history, facing)
+            history = ply_landing_kept.landed_at(self, state, history, facing)
         if ply_projection.COMPILED and not self.curved:  # the same bits (ply_load_kernels.py)
             if not self._frictional(history):
                 return ply_load_kernels.ply_loads(self, state, facing)
@@ -571,7 +571,7 @@ class PlyContactBlock(InteractionBlock):
         law = penalty_law(facing.gap[on], self.stiffness[on], self.smoothing)
         energy = float(np.sum(_fade(facing, on)[0] * law[0]))
         if self._frictional(history):  # the tangential springs' |F_t|^2 / (2 k_t)
-            history = ply_landing.landed(self, state, history, facing)
+            history = ply_landing_kept.landed_at(self, state, history, facing)
             sliding = self.friction_state(state, history, facing)
             spring = np.where(sliding.spring > 0, sliding.spring, 1.0)  # k_t = 0: no force
             energy += 0.5 * float(np.sum(np.sum(sliding.force**2, axis=1) / spring))
@@ -595,10 +595,9 @@ class PlyContactBlock(InteractionBlock):
         if self.curved and CURVED_TANGENT:  # the curved loads' exact derivative
             facing = self._held(state, history)
             curved: list[TangentPart] = [ply_curved_tangent.curved_tangent(self, state, facing)]
-            if self._frictional(history):  # a landing anchor held fixed (ply_landing.py)
-                landed = ply_landing.landed(self, state, history, facing)
+            if self._frictional(history):  # a landing anchor moving (ply_landing.py)
                 curved.append(
-                    ply_curved_friction.curved_friction_tangent(self, state, landed, facing)
+                    ply_curved_friction.curved_friction_tangent(self, state, history, facing)
                 )
             return curved
         facing = self._held(state, history, second=True)
@@ -714,7 +713,7 @@ class PlyContactBlock(InteractionBlock):
         if not isinstance(history, PlyFrictionHistory):
             return history if sides is None else sides
         if self.friction > 0.0:  # the landing points anchored where they touched
-            history = ply_landing.landed(self, state, history, facing)
+            history = ply_landing_kept.landed_at(self, state, history, facing)
         if ply_projection.COMPILED:
             return ply_friction_kernels.updated_history(self, state, history, facing, sides)
         return ply_friction.updated_history(self, state, history, facing, sides)

@@ -32,6 +32,15 @@ tests' [0/45] pair on the 50-mm sphere, 1.9e-7 with gaps of 0.35 mm on a 12-mm r
 enough for Newton, not to rounding). The stick/slip state and the
 normal law's branch are those of the real point. The tangent then carries the local
 derivative to the nodes (``carried_tangent``).
+
+A point landing in the step (elements/ply_landing.py) has its anchor where its way crossed
+the face, Lambda_a = Lambda - (1 - theta)(Lambda_nu - Lambda_nu,0), which moves with the
+state: the complex steps make it again from v (``landing_anchor``: Lambda the projection
+made again above, its normal nu, the places on the facing triangle's planes now and then
+along nu, theta = g_0 / (g_0 + pen) with pen from the gap; the places then and g_0 held), and
+take its motion alone (the imaginary part) onto the anchor given, so the loads stay those of
+the given anchor to the bit and the tangent carries dLambda_a/dv through the anchor patch's
+Phong map.
 """
 
 from __future__ import annotations
@@ -40,7 +49,12 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from elements import ply_curved_friction_kernels, ply_projection, ply_surface
+from elements import (
+    ply_curved_friction_kernels,
+    ply_landing_kept,
+    ply_projection,
+    ply_surface,
+)
 from elements.ply_curved_hessian import gap_gradient_and_turning, phong_jacobian
 from elements.ply_curved_tangent import carried_loads, carried_tangent, surface_normals
 from femcore.assembly import SparseTangent
@@ -49,6 +63,7 @@ from femcore.state import State
 if TYPE_CHECKING:
     from elements.ply_block import PlyContactBlock
     from elements.ply_friction import PlyFrictionHistory, Sliding
+    from elements.ply_landing import Landing
     from elements.ply_projection import Facing
 
 __all__ = ["curved_friction_loads", "curved_friction_tangent", "local_loads_numpy"]
@@ -94,6 +109,56 @@ def _law(gap: np.ndarray, branch_gap: np.ndarray, stiffness: np.ndarray, smoothi
     return pressing, spring, slope
 
 
+def _plane_places(
+    corners: np.ndarray, point: np.ndarray, direction: np.ndarray
+) -> tuple[np.ndarray, np.ndarray]:
+    """(places (r, 3), height (r,) mm): the barycentric places on the planes of the
+    triangles ``corners`` (r, 3, 3) of ``point`` (r, 3) moved onto them along ``direction``
+    (r, 3), along their normals where it lies within 60 deg of the planes (the landing's
+    places, elements/ply_landing.py ``landing`` and ``_onto_plane``), and its height over
+    them; in plain arithmetic, real or complex (the normal's length sqrt(c . c), not |c|)."""
+    y1, y2, y3 = corners[:, 0], corners[:, 1], corners[:, 2]
+    c = np.cross(y2 - y1, y3 - y1)
+    area2 = np.sqrt(np.sum(c * c, axis=1))
+    normal = c / area2[:, None]
+    edges = np.stack([y3 - y2, y1 - y3], axis=1)  # grad phi_1 and grad phi_2 only
+    gradients = np.cross(normal[:, None, :], edges) / area2[:, None, None]
+    height = np.sum(normal * (point - y1), axis=1)
+    slant = np.sum(normal * direction, axis=1)
+    usable = np.abs(slant.real) > 0.5
+    direction = np.where(usable[:, None], direction, normal)
+    slant = np.where(usable, slant, 1.0)
+    moved = point - (height / slant)[:, None] * direction
+    first = np.sum(gradients[:, 0] * (moved - y2), axis=1)
+    second = np.sum(gradients[:, 1] * (moved - y1), axis=1)
+    return np.column_stack([first, second, 1.0 - first - second]), height
+
+
+def landing_anchor(
+    p: np.ndarray,
+    y: np.ndarray,
+    lam: np.ndarray,
+    nu: np.ndarray,
+    gap: np.ndarray,
+    then: np.ndarray,
+) -> np.ndarray:
+    """(r, 3) the landing anchor Lambda_a = Lambda - (1 - theta)(Lambda_nu - Lambda_nu,0) of
+    points landing on curved faces (elements/ply_landing.py), in plain arithmetic, real or
+    complex (its derivative over the local data by the complex step): p (r, 3) the points,
+    y (r, 3, 3) the facing triangles' corners now, lam (r, 3) the projections' coordinates
+    on their patches, nu (r, 3) the patches' normals there, gap (r,) mm the gaps, then
+    (r, 4, 3) the triangles' corners and the points' face points at the last accepted
+    state; theta = g_0 / (g_0 + pen), g_0 the height then over T's plane (held, real)."""
+    now = _plane_places(y, p, nu)[0]
+    before, height = _plane_places(then[:, :3], then[:, 3], nu)
+    g0 = np.maximum(height.real, 0.0)
+    pen = np.where(gap.real < 0.0, -gap, 0.0 * gap)
+    way = g0 + pen
+    landed = way.real > 0.0
+    theta = np.where(landed, g0 / np.where(landed, way, 1.0), 1.0 + 0.0 * way)
+    return lam - (1.0 - theta)[:, None] * (now - before)
+
+
 def local_loads_numpy(
     block: PlyContactBlock,
     v: np.ndarray,
@@ -103,20 +168,31 @@ def local_loads_numpy(
     stiffness: np.ndarray,
     branch_gap: np.ndarray,
     stuck: np.ndarray,
+    landing: np.ndarray,
+    then: np.ndarray,
 ) -> np.ndarray:
     """The local loads (t, 54), N or N mm, of the frictional points (module docstring) at
     their data v (t, 54), real or complex: sigma (t, 3) the points' coordinates on the upper
     patch, anchor (t, 3) the anchors' Lambda, start (t, 3) the converged projection's
     coordinates, stiffness (t,) k_p N/mm, branch_gap (t,) the real gap (the law's branch),
-    mm, stuck (t,) bool."""
+    mm, stuck (t,) bool, landing (t,) bool the points landing in this step and then
+    (t, 4, 3) mm their facing triangle's corners and their face point at the last accepted
+    state (read where ``landing``). A landing point's anchor moves with v as
+    ``landing_anchor`` (its derivative), its value ``anchor`` (the same to rounding: the
+    loads are those of the real anchor to the bit)."""
     z, upper_normals, y, n, ya, na = _split(v)
     p = ply_surface.surface_point_numpy(z, upper_normals, sigma)[0]
-    a = ply_surface.surface_point_numpy(ya, na, anchor)[0]
     lam = _project(p, y, n, start)
     point, tangents, _, _ = ply_surface.surface_point_numpy(y, n, lam)
     c = np.cross(tangents[:, 0], tangents[:, 1])
     nu = c / np.sqrt(np.sum(c * c, axis=1))[:, None]
     gap = np.sum((p - point) * nu, axis=1)
+    lands = np.flatnonzero(landing)
+    if len(lands) and np.iscomplexobj(v):  # its motion only: the value is ``anchor``'s
+        moving = landing_anchor(p[lands], y[lands], lam[lands], nu[lands], gap[lands], then[lands])
+        anchor = anchor.astype(complex)
+        anchor[lands] += 1j * moving.imag
+    a = ply_surface.surface_point_numpy(ya, na, anchor)[0]
     pressing, spring, slope = _law(gap, branch_gap, stiffness, block.smoothing)
     if block.stick == "penalty":
         spring, slope = stiffness + 0.0 * gap, 0.0 * gap
@@ -148,15 +224,19 @@ def _local_loads(
     stiffness: np.ndarray,
     branch_gap: np.ndarray,
     stuck: np.ndarray,
+    landing: np.ndarray,
+    then: np.ndarray,
 ) -> np.ndarray:
     """``local_loads_numpy``, compiled where the ply kernels are
     (elements/ply_curved_friction_kernels.py)."""
     if ply_projection.COMPILED:
         return ply_curved_friction_kernels.local_loads(
-            v, sigma, anchor, start, stiffness, branch_gap, stuck, block.smoothing,
-            block.friction, block.stick == "penalty", STEPS,
+            v, sigma, anchor, start, stiffness, branch_gap, stuck, landing, then,
+            block.smoothing, block.friction, block.stick == "penalty", STEPS,
         )  # fmt: skip
-    return local_loads_numpy(block, v, sigma, anchor, start, stiffness, branch_gap, stuck)
+    return local_loads_numpy(
+        block, v, sigma, anchor, start, stiffness, branch_gap, stuck, landing, then
+    )
 
 
 def _frictional_points(
@@ -166,10 +246,13 @@ def _frictional_points(
     history: PlyFrictionHistory,
     facing: Facing,
     surface: tuple[np.ndarray, np.ndarray],
+    found: Landing | None = None,
 ):
     """The stuck or sliding points' rows (t,), slot nodes (t, 18), corner mask and offsets
     (t, 18), local data (t, 54) and what ``_local_loads`` takes beside them; ``surface`` the
-    nodal normals and lengths (elements/ply_curved_tangent.py ``surface_normals``)."""
+    nodal normals and lengths (elements/ply_curved_tangent.py ``surface_normals``), ``found``
+    the points landing in this step (``history`` the one ``found``'s anchors are in; None:
+    their anchors held)."""
     on = np.flatnonzero(sliding.stuck | sliding.sliding)
     x = state.positions
     normals = surface[0]
@@ -199,9 +282,17 @@ def _frictional_points(
         ]
     )
     corner = np.broadcast_to(CORNER_SLOTS, nodes.shape)
+    landing = np.zeros(len(on), dtype=bool)
+    then = np.zeros((len(on), 4, 3))
+    if found is not None and history.sides is not None:
+        # every landing point touches: stuck or sliding, in ``on``
+        lands = np.searchsorted(on, found.rows)
+        landing[lands] = True
+        then[lands, :3] = history.sides.corners[facing.triangle[found.rows]]
+        then[lands, 3] = history.sides.faces[found.rows]
     arguments = (
         block.shape[on], history.anchor[on], facing.weights[on], block.stiffness[on],
-        facing.gap[on], sliding.stuck[on],
+        facing.gap[on], sliding.stuck[on], landing, then,
     )  # fmt: skip
     return on, nodes, corner, offset, data, arguments
 
@@ -227,11 +318,14 @@ def curved_friction_tangent(
     block: PlyContactBlock, state: State, history: PlyFrictionHistory, facing: Facing
 ) -> SparseTangent:
     """d(force, moment)/d(u, psi) (6 n, 6 n) of ``curved_friction_loads`` (module
-    docstring: the local derivative by the complex step)."""
+    docstring: the local derivative by the complex step), ``history`` the accepted one: the
+    points landing in this step anchored where their way crossed the face, their anchors
+    moving with the state (elements/ply_landing.py)."""
+    found, history = ply_landing_kept.kept_landing(block, state, history, facing)
     sliding = block.friction_state(state, history, facing)
     surface = surface_normals(block, state)
     _, nodes, corner, offset, data, arguments = _frictional_points(
-        block, state, sliding, history, facing, surface
+        block, state, sliding, history, facing, surface, found
     )
     loads = _local_loads(block, data, *arguments)
     t, size = data.shape

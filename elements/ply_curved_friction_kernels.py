@@ -35,9 +35,58 @@ def _flat_point(data, corners, normals, lam, zero, q, e):
             e[k] = e[k] + (q[i] - data[corners, k, i]) * data[normals, k, i]
 
 
+@inline
+def _plane_places(corners, point, direction, places):
+    """Into places (3,): the barycentric places on the plane of the triangle ``corners``
+    (3, 3) of ``point`` (3,) moved onto it along ``direction`` (3,), along its normal where
+    that lies within 60 deg of the plane; returns the point's height over the plane
+    (elements/ply_curved_friction.py ``_plane_places``), real or complex."""
+    a0 = corners[1, 0] - corners[0, 0]
+    a1 = corners[1, 1] - corners[0, 1]
+    a2 = corners[1, 2] - corners[0, 2]
+    b0 = corners[2, 0] - corners[0, 0]
+    b1 = corners[2, 1] - corners[0, 1]
+    b2 = corners[2, 2] - corners[0, 2]
+    c0 = a1 * b2 - a2 * b1
+    c1 = a2 * b0 - a0 * b2
+    c2 = a0 * b1 - a1 * b0
+    area2 = np.sqrt(c0 * c0 + c1 * c1 + c2 * c2)
+    n0, n1, n2 = c0 / area2, c1 / area2, c2 / area2
+    height = (
+        n0 * (point[0] - corners[0, 0])
+        + n1 * (point[1] - corners[0, 1])
+        + n2 * (point[2] - corners[0, 2])
+    )
+    slant = n0 * direction[0] + n1 * direction[1] + n2 * direction[2]
+    d0, d1, d2 = direction[0], direction[1], direction[2]
+    if not abs(slant.real) > 0.5:
+        d0, d1, d2, slant = n0, n1, n2, slant * 0.0 + 1.0
+    rise = height / slant
+    m0, m1, m2 = point[0] - rise * d0, point[1] - rise * d1, point[2] - rise * d2
+    # grad phi_1 = n x (y_3 - y_2) / |c| and grad phi_2 = n x (y_1 - y_3) / |c|
+    e0 = corners[2, 0] - corners[1, 0]
+    e1 = corners[2, 1] - corners[1, 1]
+    e2 = corners[2, 2] - corners[1, 2]
+    f0 = corners[0, 0] - corners[2, 0]
+    f1 = corners[0, 1] - corners[2, 1]
+    f2 = corners[0, 2] - corners[2, 2]
+    places[0] = (
+        (n1 * e2 - n2 * e1) * (m0 - corners[1, 0])
+        + (n2 * e0 - n0 * e2) * (m1 - corners[1, 1])
+        + (n0 * e1 - n1 * e0) * (m2 - corners[1, 2])
+    ) / area2
+    places[1] = (
+        (n1 * f2 - n2 * f1) * (m0 - corners[0, 0])
+        + (n2 * f0 - n0 * f2) * (m1 - corners[0, 1])
+        + (n0 * f1 - n1 * f0) * (m2 - corners[0, 2])
+    ) / area2
+    places[2] = 1.0 - places[0] - places[1]
+    return height
+
+
 def _local_loads(
-    v, sigma, anchor, start, stiffness, branch_gap, stuck, smoothing, friction, penalty, steps,
-    out,
+    v, sigma, anchor, start, stiffness, branch_gap, stuck, landing, then, smoothing, friction,
+    penalty, steps, out,
 ):  # fmt: skip
     """Into out (t, 54): the local loads of the points' data v (t, 54), real or complex
     (elements/ply_curved_friction.py ``local_loads_numpy``, whose arguments these are)."""
@@ -61,6 +110,11 @@ def _local_loads(
         facing_q = np.empty(3, v.dtype)
         facing_e = np.empty(3, v.dtype)
         facing_point = np.empty(3, v.dtype)
+        nu = np.empty(3, v.dtype)
+        gap = zero
+        anchored = np.empty(3, v.dtype)  # the anchor's Lambda, moving where it lands
+        for k in range(3):
+            anchored[k] = anchor[row, k] + zero
         for which in range(3):
             corners, normals = 2 * which, 2 * which + 1
             if which == 0:
@@ -68,7 +122,7 @@ def _local_loads(
                     lam[k] = sigma[row, k] + zero
             elif which == 2:
                 for k in range(3):
-                    lam[k] = anchor[row, k] + zero
+                    lam[k] = anchored[k]
             else:
                 for k in range(3):
                     lam[k] = start[row, k] + zero
@@ -122,16 +176,33 @@ def _local_loads(
                     facing_q[i] = q[i]
                     facing_e[i] = e[i]
                     facing_point[i] = point[i]
-        # the normal, the gap and the law
-        c0 = tangents[0, 1] * tangents[1, 2] - tangents[0, 2] * tangents[1, 1]
-        c1 = tangents[0, 2] * tangents[1, 0] - tangents[0, 0] * tangents[1, 2]
-        c2 = tangents[0, 0] * tangents[1, 1] - tangents[0, 1] * tangents[1, 0]
-        size = np.sqrt(c0 * c0 + c1 * c1 + c2 * c2)
-        nu = np.empty(3, v.dtype)
-        nu[0], nu[1], nu[2] = c0 / size, c1 / size, c2 / size
-        gap = zero
-        for i in range(3):
-            gap = gap + (p[i] - facing_point[i]) * nu[i]
+                # the normal and the gap
+                c0 = tangents[0, 1] * tangents[1, 2] - tangents[0, 2] * tangents[1, 1]
+                c1 = tangents[0, 2] * tangents[1, 0] - tangents[0, 0] * tangents[1, 2]
+                c2 = tangents[0, 0] * tangents[1, 1] - tangents[0, 1] * tangents[1, 0]
+                size = np.sqrt(c0 * c0 + c1 * c1 + c2 * c2)
+                nu[0], nu[1], nu[2] = c0 / size, c1 / size, c2 / size
+                for i in range(3):
+                    gap = gap + (p[i] - facing_point[i]) * nu[i]
+                if landing[row]:  # the landing anchor's motion (its value: ``anchor``)
+                    earlier = np.empty((3, 3), v.dtype)  # T's corners then
+                    at = np.empty(3, v.dtype)  # the face point then
+                    for k in range(3):
+                        at[k] = then[row, 3, k] + zero
+                        for i in range(3):
+                            earlier[k, i] = then[row, k, i] + zero
+                    now = np.empty(3, v.dtype)
+                    before = np.empty(3, v.dtype)
+                    _plane_places(data[2], p, nu, now)
+                    height = _plane_places(earlier, at, nu, before)
+                    g0 = max(height.real, 0.0)
+                    pen = -gap if gap.real < 0.0 else zero
+                    way = g0 + pen
+                    theta = g0 / way if way.real > 0.0 else 1.0 + zero
+                    for k in range(3):
+                        moving = lam[k] - (1.0 - theta) * (now[k] - before[k])
+                        anchored[k] = anchored[k] + (moving - moving.real)
+        # the law
         k_p = stiffness[row]
         if smoothing == 0.0:
             pressing, spring, slope = -k_p * gap, k_p + zero, zero
@@ -169,7 +240,7 @@ def _local_loads(
                 elif which == 1:
                     lam[k] = facing_lam[k]
                 else:
-                    lam[k] = anchor[row, k] + zero
+                    lam[k] = anchored[k]
             _flat_point(data, corners, normals, lam, zero, q, e)
             sign = -1.0 if which == 1 else 1.0
             for i in range(3):
@@ -291,6 +362,8 @@ def local_loads(
     stiffness: np.ndarray,
     branch_gap: np.ndarray,
     stuck: np.ndarray,
+    landing: np.ndarray,
+    then: np.ndarray,
     smoothing: float,
     friction: float,
     penalty: bool,
@@ -300,12 +373,13 @@ def local_loads(
     compiled; v real or complex (t, 54), the rest as there. Raises ValueError for other
     shapes (the pass would read past its arrays)."""
     count = len(v) if np.ndim(v) == 2 else -1
-    shapes = [np.shape(a) for a in (sigma, anchor, start, stiffness, branch_gap, stuck)]
-    expected = [(count, 3)] * 3 + [(count,)] * 3
+    given = (sigma, anchor, start, stiffness, branch_gap, stuck, landing, then)
+    shapes = [np.shape(a) for a in given]
+    expected = [(count, 3)] * 3 + [(count,)] * 4 + [(count, 4, 3)]
     if np.shape(v) != (count, 54) or shapes != expected:
         raise ValueError(
             f"local data {np.shape(v)} and per-point arrays {shapes} given: expected (t, 54), "
-            "three (t, 3) and three (t,) with one t"
+            "three (t, 3), four (t,) and one (t, 4, 3) with one t"
         )
     if isinstance(steps, bool) or not isinstance(steps, (int, np.integer)) or steps < 0:
         # fewer than none would leave the pass's tangents unset (read from np.empty)
@@ -316,6 +390,7 @@ def local_loads(
         v, np.ascontiguousarray(sigma, dtype=float), np.ascontiguousarray(anchor, dtype=float),
         np.ascontiguousarray(start, dtype=float), np.ascontiguousarray(stiffness, dtype=float),
         np.ascontiguousarray(branch_gap, dtype=float), np.ascontiguousarray(stuck, dtype=bool),
+        np.ascontiguousarray(landing, dtype=bool), np.ascontiguousarray(then, dtype=float),
         float(smoothing), float(friction), bool(penalty), int(steps), out,
     )  # fmt: skip
     return out

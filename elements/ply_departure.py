@@ -54,7 +54,35 @@ if TYPE_CHECKING:
     from elements.ply_friction import PlyFrictionHistory
     from elements.ply_projection import Facing
 
-__all__ = ["departure"]
+__all__ = ["beside_growth", "departure", "leaving"]
+
+
+def leaving(block: PlyContactBlock, history: PlyFrictionHistory, facing: Facing) -> np.ndarray:
+    """(r,) int the rows of the points of the ply contact ``block`` whose departure's slip is
+    counted in the step from the accepted ``history`` to the state of ``facing`` (the rule's
+    selection, module docstring; the numpy ``departure`` and the compiled pass,
+    elements/ply_departure_kernels.py, both take it): anchored then, touching then by their
+    side and not now, their point now finite (their gap now to a plane, an edge or a vertex).
+    The ones among them with no gap to their anchor's triangle's plane now are left out after
+    (not lifted off it). None without friction or sides."""
+    sides = history.sides
+    if sides is None or block.friction <= 0.0:
+        return np.zeros(0, dtype=np.int64)
+    # (the anchored points are few to test further: a step where none leaves costs a mask)
+    rows = np.flatnonzero((history.triangle >= 0) & ~np.asarray(facing.touching, dtype=bool))
+    rows = rows[sides.sides[rows] == TOUCHING]
+    return rows[np.all(np.isfinite(facing.face[rows]), axis=1)]
+
+
+def beside_growth(facing: Facing, rows: np.ndarray) -> np.ndarray:
+    """(r,) bool which of the points ``rows`` (r,) int face a growth's edge, an outline vertex
+    or a cut at ``facing`` (their gap to an edge or a vertex, T's normal signing it:
+    ``Facing.on_edge`` and ``on_growth``, not ``joined``), whose departure's slip is the
+    offset's part across the gap's normal nu (module docstring; the numpy ``departure`` and
+    the compiled pass both take it)."""
+    if facing.on_growth is None or facing.joined is None or facing.on_edge is None:
+        return np.zeros(len(rows), dtype=bool)
+    return facing.on_edge[rows] & facing.on_growth[rows] & ~facing.joined[rows]
 
 
 def departure(
@@ -65,15 +93,9 @@ def departure(
     sides held; the offset lower corners ``y`` (m, 3, 3) there, mm), and each one's slip in
     that step up to where it left (module docstring). No rows without friction or sides."""
     sides = history.sides
-    none = np.zeros(0, dtype=np.int64)
-    if sides is None or block.friction <= 0.0:
-        return none, np.zeros(0)
-    # (the anchored points are few to test further: a step where none leaves costs a mask)
-    rows = np.flatnonzero((history.triangle >= 0) & ~np.asarray(facing.touching, dtype=bool))
-    rows = rows[sides.sides[rows] == TOUCHING]
-    rows = rows[np.all(np.isfinite(facing.face[rows]), axis=1)]
-    if len(rows) == 0:
-        return none, np.zeros(0)
+    rows = leaving(block, history, facing)
+    if sides is None or len(rows) == 0:
+        return rows, np.zeros(0)
     triangle = history.triangle[rows]
     before, now = sides.corners[triangle], y[triangle]
     then, p = sides.faces[rows], facing.face[rows]
@@ -89,11 +111,10 @@ def departure(
     place = old + theta[:, None] * (weights - old)
     corners = before + theta[:, None, None] * (now - before)
     offset = np.einsum("rk,rki->ri", place - history.anchor[rows], corners)
-    if facing.on_growth is not None and facing.joined is not None and facing.on_edge is not None:
-        # beside a growth's edge (T's normal signs the gap) the spring held the offset across
-        # the edge gap's normal nu, nearly in T's plane (module docstring)
-        aside = facing.on_edge[rows] & facing.on_growth[rows] & ~facing.joined[rows]
-        if aside.any():
-            nu = facing.normal[rows[aside]]
-            offset[aside] -= np.einsum("ri,ri->r", nu, offset[aside])[:, None] * nu
+    # beside a growth's edge (T's normal signs the gap) the spring held the offset across the
+    # edge gap's normal nu, nearly in T's plane (module docstring)
+    aside = beside_growth(facing, rows)
+    if aside.any():
+        nu = facing.normal[rows[aside]]
+        offset[aside] -= np.einsum("ri,ri->r", nu, offset[aside])[:, None] * nu
     return rows, np.linalg.norm(offset, axis=1)

@@ -55,7 +55,7 @@ import numpy as np
 from elements import (
     ply_departure,
     ply_edge_couple_kernels,
-    ply_landing,
+    ply_landing_kept,
     ply_projection,
     ply_surface,
 )
@@ -408,8 +408,7 @@ def friction_tangent(
     and turned with the directors as the normal part (``tangent``). A point landing in this
     step (elements/ply_landing.py) has its anchor on the facing triangle moving with z: its
     dLambda/dz adds -sum_k y_k dLambda_k/dz to dr/dz and -dLambda_k/dz F to the corners'."""
-    found = ply_landing.landing(block, state, history, facing)
-    history = ply_landing.landed(block, state, history, facing, found)
+    found, history = ply_landing_kept.kept_landing(block, state, history, facing)
     sliding = friction_state(block, state, history, facing)
     on = np.flatnonzero(sliding.stuck | sliding.sliding)
     t = len(on)

@@ -35,7 +35,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from elements import ply_departure, ply_friction
+from elements import ply_departure, ply_departure_kernels, ply_friction
 from elements.jit import jit_lanes, prange
 from elements.kept_bits import same_bits
 from elements.kernel_inputs import read_only, writable
@@ -342,8 +342,15 @@ def updated_history(
         _, y = block._faces(state)
         last = (history.triangle, history.anchor, history.slip, history.pressing)
         kept = _kept_mapping(block, history, facing)
-        sliding, moved, following = history_pass(block, facing, y, last, kept)
-        return _kept_history(block, history, facing, sides, sliding, moved, following, y)
+        # the departure's records in the pass (elements/ply_departure_kernels.py)
+        compiled = ply_departure_kernels.COMPILED
+        leaving = ply_departure.leaving(block, history, facing) if compiled else None
+        sliding, moved, following = history_pass(
+            block, facing, y, last, kept, leaving, history.sides
+        )
+        return _kept_history(
+            block, history, facing, sides, sliding, moved, following, y, departed=compiled
+        )
     sliding = friction_state(block, state, history, facing)
     _, y = block._faces(state)
     count = len(block.above)
@@ -385,22 +392,34 @@ def updated_history(
     return _kept_history(block, history, facing, sides, sliding, moved, following, y)
 
 
-def _kept_history(block, history, facing, sides, sliding, moved, following, y):
+def _kept_history(block, history, facing, sides, sliding, moved, following, y, departed=False):
     """The new history from ``moved`` (triangle, anchor, slipped, dissipation) and the
     mapping ``sliding``'s pressing, the points that left the face (at the lower corners ``y``)
     given their slip up to where they left (elements/ply_departure.py), the dissipation
-    summed by numpy; ``following``, the mapping from it, kept on the block for the next
-    step's loads (module docstring), as long as the facing and the penalties are these."""
+    summed by numpy (``departed``: those records already written by the pass);
+    ``following``, the mapping from it, kept on the block for the next step's loads (module
+    docstring), as long as the facing and the penalties are these."""
     triangle, anchor, slipped, dissipation = moved
-    rows, way = ply_departure.departure(block, y, history, facing)
-    if len(rows):  # the numpy reference's records, the same bits (slid 0 there before)
-        slipped[rows] = history.slip[rows] + way
-        force = block.friction * 0.5 * (sliding.pressing[rows] + history.pressing[rows])
-        dissipation[rows] = force * way
+    if not departed:
+        _departures(block, y, history, facing, sliding.pressing, slipped, dissipation)
     dissipated = history.dissipated + float(np.sum(dissipation))
     updated = PlyFrictionHistory(triangle, anchor, slipped, sliding.pressing, dissipated, sides)
     block._next_sliding = (updated, facing, _law(block), following, _bits(updated))
     return updated
+
+
+def _departures(block, y, history, facing, pressing, slipped, dissipation) -> None:
+    """The departure's records written into ``slipped`` and ``dissipation`` (``_kept_history``)
+    by its kernel (elements/ply_departure_kernels.py) or, with that module's ``COMPILED``
+    False, from the numpy reference (ply_departure.py ``departure``), the same bits."""
+    if ply_departure_kernels.COMPILED:
+        ply_departure_kernels.departed(block, y, history, facing, pressing, slipped, dissipation)
+        return
+    rows, way = ply_departure.departure(block, y, history, facing)
+    if len(rows):  # (slid 0 there before)
+        slipped[rows] = history.slip[rows] + way
+        force = block.friction * 0.5 * (pressing[rows] + history.pressing[rows])
+        dissipation[rows] = force * way
 
 
 def _bits(history: PlyFrictionHistory) -> bytes:

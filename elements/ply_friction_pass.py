@@ -1,9 +1,11 @@
 """The flat ply contact's friction history after an accepted step in one compiled call
 (elements/ply_friction_kernels.py ``updated_history``; elements/ply_friction.py, docs/theory.md
 §9.3a): the return mapping at the new state from the history before it (unless a kept one
-serves), the anchors moved and re-expressed (``_moved``) and the next loads' return mapping
-from the new history, back to back on the calling thread, where ``updated_history`` made
-three compiled calls with their arguments' conversions and outputs between them.
+serves), the anchors moved and re-expressed (``_moved``), the records of the points that left
+the face (elements/ply_departure_kernels.py, the points ``ply_departure.leaving`` selects)
+and the next loads' return mapping from the new history, back to back on the calling thread,
+where ``updated_history`` made three compiled calls (four with the departure's) with their
+arguments' conversions and outputs between them.
 
 Each stage runs its kernel's own plain build (elements/jit.py ``plain_part``; IEEE, no
 fastmath), so the history and both mappings are the same to the last bit as the three calls'
@@ -17,11 +19,12 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from elements import ply_friction_kernels
+from elements import ply_departure, ply_departure_kernels, ply_friction_kernels
 from elements.jit import lanes, plain_part
 from elements.kernel_inputs import read_only, writable
 from elements.ply_friction import Sliding
 from elements.ply_friction_kernels import _sliding_arrays
+from elements.ply_sides import PlySides
 
 if TYPE_CHECKING:
     from elements.ply_block import PlyContactBlock
@@ -33,6 +36,7 @@ __all__ = ["history_pass"]
 # (part 0 of 1, ``plain_part``), so the same bits and one build each
 _mapping_here = plain_part(ply_friction_kernels._return_mapping_compiled)
 _moved_here = plain_part(ply_friction_kernels._moved_compiled)
+_departure_here = plain_part(ply_departure_kernels._departure_compiled)
 
 
 def _history(
@@ -41,11 +45,14 @@ def _history(
     gradients, last_slip, last_pressing, force, slip, stuck, sliding, pressing, offset,
     mapped_triangle, spring, lift, stored, triangle, anchor, slipped, dissipation,
     next_force, next_slip, next_stuck, next_sliding, next_pressing, next_offset,
-    next_triangle, next_spring, next_lift, next_stored,
+    next_triangle, next_spring, next_lift, next_stored, leaving, before, then, aside, way,
 ):  # fmt: skip
     """The mapping from the last history (where ``fresh``; else its arrays given), the new
-    history's triangle, anchor, slipped and dissipation, then the mapping from them (the
-    ``next_`` arrays), each written in place (``history_pass``)."""
+    history's triangle, anchor, slipped and dissipation with the departure's records of the
+    points ``leaving`` (elements/ply_departure_kernels.py; the lower corners ``before`` and
+    the points ``then`` at the last accepted state, ``aside`` those beside a growth's edge,
+    ``way`` their slips), then the mapping from them (the ``next_`` arrays), each written in
+    place (``history_pass``)."""
     if fresh:
         _mapping_here(
             touching, gap, stiffness, smoothing, fade, bounded, normal_law, potential,
@@ -58,6 +65,11 @@ def _history(
         stuck, sliding, pressing, offset, spring, last_triangle, last_anchor, last_slip,
         last_pressing, triangle, anchor, slipped, dissipation, np.int64(0), np.int64(1),
     )  # fmt: skip
+    if leaving.shape[0]:
+        _departure_here(
+            leaving, last_triangle, before, y, then, face, last_anchor, normal, aside, friction,
+            pressing, last_pressing, last_slip, way, slipped, dissipation, np.int64(0), np.int64(1),
+        )  # fmt: skip
     _mapping_here(
         touching, gap, stiffness, smoothing, fade, bounded, normal_law, potential, friction,
         triangle, anchor, face, normal, y, next_force, next_slip, next_stuck, next_sliding,
@@ -67,6 +79,10 @@ def _history(
 
 
 _history_compiled = lanes(_history)
+# no point leaving: the departure's inputs of their types, read-only
+_NO_CORNERS, _NO_POINTS = np.zeros((0, 3, 3)), np.zeros((0, 3))
+_NO_CORNERS.setflags(write=False)
+_NO_POINTS.setflags(write=False)
 
 
 def history_pass(
@@ -75,6 +91,8 @@ def history_pass(
     y: np.ndarray,
     last: tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray],
     kept: Sliding | None,
+    leaving: np.ndarray | None = None,
+    sides: PlySides | None = None,
 ) -> tuple[Sliding, tuple[np.ndarray, ...], Sliding]:
     """The friction's history pass of a flat ply contact block at a facing (module
     docstring).
@@ -91,6 +109,9 @@ def history_pass(
         The history before the step.
     kept : Sliding or None
         The mapping at this facing from that history where one is kept (None: made here).
+    leaving : (r,) int or None
+        The points whose departure's records the pass writes (``ply_departure.leaving``;
+        None: none), from the last history's ``sides`` (its faces and lower corners).
 
     Returns
     -------
@@ -116,6 +137,12 @@ def history_pass(
         np.empty(count),
     )
     last_triangle, last_anchor, last_slip, last_pressing = last
+    if leaving is None or sides is None or not len(leaving):
+        leaving, before, then = np.zeros(0, dtype=np.int64), _NO_CORNERS, _NO_POINTS
+    else:
+        before, then = sides.corners, sides.faces
+    # the rows beside a growth's edge: their slip across the gap's normal (ply_departure.py)
+    aside = ply_departure.beside_growth(facing, leaving)
     flag = block.stick != "penalty"  # the normal law's spring and potential (flat faces)
     # each input of the type ``_mapped`` and ``updated_history`` hand their kernels
     _history_compiled(
@@ -126,7 +153,8 @@ def history_pass(
         writable(last_anchor), read_only(facing.face), read_only(facing.normal), read_only(y),
         fresh, read_only(facing.triangle, np.int64), read_only(facing.weights),
         read_only(facing.gradients), writable(last_slip), writable(last_pressing), *mapped,
-        *moved, *following,
+        *moved, *following, writable(leaving, np.int64), read_only(before), read_only(then),
+        writable(aside, np.bool_), np.empty(len(leaving)),
     )  # fmt: skip
     sliding = Sliding(*mapped) if kept is None else kept
     return sliding, moved, Sliding(*following)

@@ -58,6 +58,11 @@ def smooth_step(tau: ArrayLike) -> np.ndarray:
         # (2-3 us) skipped where it would return tau itself as a numpy float64, the same
         # operations after it (the same bits).
         clipped = np.float64(tau)
+    elif isinstance(tau, float) and (tau >= 1.0 or tau < 0.0):
+        # Past either end (a holder's closing amplitude after its closing, at every step):
+        # np.clip's bound as the numpy float64 it returns (tau = +-0 and nan stay np.clip's,
+        # which keeps the sign of -0.0 and the nan).
+        clipped = np.float64(1.0 if tau >= 1.0 else 0.0)
     else:
         clipped = np.clip(tau, 0.0, 1.0)
     return clipped**3 * (10.0 - 15.0 * clipped + 6.0 * clipped**2)

@@ -1,6 +1,7 @@
 """Two Mindlin plies with frictional ply contact, the upper one carried by a prescribed
-motion over a held lower one: the model of the ply landing and departure tests
-(tests/test_ply_landing.py, test_ply_departure.py), and Static's accepted histories of it."""
+motion over a held lower one: the models of the ply landing and departure tests
+(tests/test_ply_landing.py, test_ply_departure.py; flat, and a cap coming down on a curved
+ply), and Static's accepted histories of them."""
 
 from __future__ import annotations
 
@@ -18,6 +19,7 @@ from solvers import Static
 MU = 0.3
 HALF = 0.1  # mm, each ply's half thickness: the faces lie HALF from the mid-surfaces
 PENALTY = 50.0  # N/mm per point
+CAP_RADIUS = 20.0  # mm, the curved lower ply's mid-surface (``capped_plies``)
 
 
 def moved_plies(gap: float, ux: float, uz: float, surface: str = "flat") -> Model:
@@ -51,6 +53,55 @@ def moved_plies(gap: float, ux: float, uz: float, surface: str = "flat") -> Mode
     model.interact(contact)
     model.fix(np.arange(count - 1))
     model.fix([count - 1], ("ux", "uy", "alpha", "beta"))
+    model.fix(np.arange(count, nodes), ("alpha", "beta"))
+    model.displace(np.arange(count, nodes), ux=ux, uy=0.0, uz=uz, amplitude="linear")
+    return model
+
+
+def _on_cap(mesh: Mesh, radius: float, apex: float) -> np.ndarray:
+    """The points of ``mesh`` (a rectangle centred on the z axis) laid on the sphere of
+    ``radius`` whose top lies at z = ``apex``."""
+    x = mesh.points.copy()
+    x[:, 2] = apex - radius + np.sqrt(radius**2 - np.sum(x[:, :2] ** 2, axis=1))
+    return x
+
+
+def capped_plies(
+    ux: float, uz: float, mu: float = MU, clear: float = 0.01, smoothing: float = 0.02
+) -> Model:
+    """A curved lower ply and a cap brought down on it: the lower ply 12 x 12 mm in 4 x 4
+    cells on a sphere of radius CAP_RADIUS, clamped at its outline, its interior free; the
+    upper ply 6 x 6 mm in 3 x 3 cells on a flatter sphere (1.5 CAP_RADIUS), its face's apex
+    ``clear`` mm over the lower one's, carried by ``ux`` along x and ``uz`` along z over the
+    run (linear), its rotations held; the contact (mu ``mu``, penalty PENALTY a point, Gauss
+    points, normal law's ramp ``smoothing`` mm) on curved faces along the normals. The
+    contact zone spreads from the apex as the cap comes down: its points land over several
+    increments."""
+    lower = Mesh.rectangle(12.0, 12.0, nx=4, ny=4, origin=(-6.0, -6.0, 0.0))
+    upper = Mesh.rectangle(6.0, 6.0, nx=3, ny=3, origin=(-3.0, -3.0, 0.0))
+    count, cells = len(lower.points), len(lower.triangles)
+    nodes = count + len(upper.points)
+    mesh = Mesh(
+        np.vstack(
+            [_on_cap(lower, CAP_RADIUS, 0.0), _on_cap(upper, 1.5 * CAP_RADIUS, 2 * HALF + clear)]
+        ),
+        triangles=np.vstack([lower.triangles, upper.triangles + count]),
+        node_sets={"lower": np.arange(count), "upper": np.arange(count, nodes)},
+        element_sets={
+            "lower": np.arange(cells),
+            "upper": np.arange(cells, cells + len(upper.triangles)),
+        },
+    )
+    model = Model(mesh)
+    shell = ElasticShell(E=70e3, nu=0.3, thickness=2 * HALF, density=2.7e-9)
+    for name in ("lower", "upper"):
+        model.add(MindlinShell(shell), cells=name)
+    contact = PlyContact(
+        "upper", "lower", HALF, HALF, penalty=PENALTY, rule="gauss", smoothing=smoothing,
+        friction=mu, surface="curved", faces="normal",
+    )  # fmt: skip
+    model.interact(contact)
+    model.fix(np.flatnonzero(np.isclose(np.abs(lower.points[:, :2]).max(axis=1), 6.0)))
     model.fix(np.arange(count, nodes), ("alpha", "beta"))
     model.displace(np.arange(count, nodes), ux=ux, uy=0.0, uz=uz, amplitude="linear")
     return model

@@ -167,7 +167,7 @@ def test_static_pulls_at_the_chains_ratio_in_any_number_of_increments(increments
     assert (result.field("contact_slip")[result.field("contact_force") > 0.0] > 0.0).all()
 
 
-@pytest.mark.parametrize("mu, increments", [(0.0, 2), (0.2, 3), (0.2, 5), (0.2, 8), (0.2, 10)])
+@pytest.mark.parametrize("mu, increments", [(0.0, 2), (0.2, 3), (0.2, 5), (0.2, 8)])
 def test_dynamic_relaxation_pulls_a_cable_over_a_cylinder_at_euler_eytelwein(mu, increments):
     """The same capstan by dynamic relaxation (the weight from the first increment, the pull
     in ``increments``): T2 / T1 = exp(mu pi) to 2e-3 and the chain's ratio to 1e-3 (its
@@ -179,7 +179,9 @@ def test_dynamic_relaxation_pulls_a_cable_over_a_cylinder_at_euler_eytelwein(mu,
     way, so the end state does not depend on the increments either. When a new contact had
     no friction for the increment that brought it on, the last node of the wrap ended
     without any at 3, 5 and 8 increments and T2 / T1 was 0.94-0.97 % low (2.9 % at 2: two
-    nodes; elements/contact.py, "Friction")."""
+    nodes; elements/contact.py, "Friction"). A pull in 10 increments (4.2 s of CPU, a third
+    of the four pulls) is not among them: it shows nothing the three above do not (the node
+    without friction showed at 3, 5 and 8), and Static pulls in 10."""
     result = DynamicRelaxation(increments=increments, progress=False).solve(capstan(mu))
     assert result.converged
     tension = pulled_tension(result)

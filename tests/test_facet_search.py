@@ -299,3 +299,22 @@ def test_a_meshed_tool_answers_the_same_with_and_without_the_short_lists(monkeyp
         for a, b in zip(got, expected):
             np.testing.assert_array_equal(a, b)
     assert answered > 200
+
+
+def test_the_candidates_copies_are_the_facets_rows_to_the_last_bit():
+    """candidate_rows copies each candidate's corners and normal (m, 4, 3) and its bounding
+    sphere's centre and radius (m, 4) from the tool's arrays, in the candidates' order, a
+    facet listed several times, the same floats as numpy's gathers, on one thread and on all."""
+    from elements.facet_search import candidate_rows
+    from tests.thread_runs import on_one_thread_and_on_all
+
+    tool = RigidSurface(bumpy_surface())
+    rng = np.random.default_rng(3)
+    facets = rng.integers(0, tool.n_facets, 5000)
+    rows = np.concatenate([tool.corners[facets], tool.normals[facets][:, None]], axis=1)
+    spheres = np.concatenate([tool._centroids[facets], tool._radius[facets][:, None]], axis=1)
+    args = (facets, tool.corners, tool.normals, tool._centroids, tool._radius)
+    for got in on_one_thread_and_on_all(lambda: candidate_rows(*args)):
+        assert got[0].shape == (5000, 4, 3) and got[1].shape == (5000, 4)
+        assert got[0].tobytes() == rows.tobytes()
+        assert got[1].tobytes() == spheres.tobytes()

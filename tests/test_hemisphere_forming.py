@@ -469,3 +469,17 @@ def test_the_run_builds_the_variant_it_is_given(monkeypatch):
     with pytest.raises(Built):
         case.run(4, "fibrous")
     assert (given["friction"], given["fibre_bending"]) == (0.0, 0.0)
+
+
+def test_the_holders_closing_at_a_float_is_numpys_formula_to_the_bit():
+    """holder_closing at a step's float tau (an explicit run's, once a step) answers as numpy's
+    operations on that scalar do (the smooth step of np.minimum(tau / HOLDER_CLOSING, 1)), at
+    random taus over the run, the closing's end and past it, the start."""
+    from femcore.loads import smooth_step
+
+    rng = np.random.default_rng(5)
+    taus = np.concatenate([rng.uniform(0.0, 1.0, 5000), [0.0, case.HOLDER_CLOSING, 1.0, 0.05]])
+    for tau in taus:
+        expected = smooth_step(np.minimum(np.asarray(tau) / case.HOLDER_CLOSING, 1.0))
+        got = case.holder_closing(float(tau))
+        assert np.asarray(got).tobytes() == np.asarray(expected).tobytes(), tau

@@ -31,12 +31,19 @@ import dataclasses
 import numpy as np
 import pytest
 
-from elements import ply_departure, ply_landing
+from elements import (
+    ply_departure,
+    ply_departure_kernels,
+    ply_friction_kernels,
+    ply_landing,
+    ply_landing_kept,
+)
 from elements.ply_friction import PlyFrictionHistory
+from elements.ply_friction_pass import history_pass
 from elements.ply_sides import TOUCHING, PlySides
 from tests.explicit_runs import run_explicitly
 from tests.ply_pair import MU, folded_plies, moved_plies, static_histories
-from tests.test_ply_landing import landing_plies
+from tests.test_ply_landing import curved_landing_plies, landing_plies
 
 VALLEY, RIDGE = 0.5, -0.5  # mm, the fold line's dip
 VZ = 0.1  # mm over the run
@@ -141,10 +148,20 @@ def test_static_counts_the_slip_of_an_increment_landing_on_an_edge(monkeypatch, 
     assert last.dissipated == pytest.approx(dissipation, rel=1e-12)
 
 
-def test_an_explicit_run_off_a_ridge_dissipates_coulombs_work_to_the_lift_off():
+@pytest.mark.parametrize(
+    "fused, compiled",
+    [(True, True), (False, True), (True, False)],
+    ids=["in the fused pass", "compiled apart", "numpy"],
+)
+def test_an_explicit_run_off_a_ridge_dissipates_coulombs_work_to_the_lift_off(
+    monkeypatch, fused, compiled
+):
     """40 explicit steps from PEN0 under the ridge's line, the lift-off 0.52 of the way
-    through step 29, after which the point faces the ridge's edge. Before, the departure step
-    counted no slip (fails)."""
+    through step 29, after which the point faces the ridge's edge: the departure's kernel in
+    the fused history pass (elements/ply_friction_pass.py), called apart, and its numpy
+    reference alike. Before, the departure step counted no slip (fails)."""
+    monkeypatch.setattr(ply_friction_kernels, "FUSED", fused)
+    monkeypatch.setattr(ply_departure_kernels, "COMPILED", compiled)
     model = departure_run(unknown=False)
     compiled, state = run_explicitly(model, STEPS, DURATION)
     block, row = carried_point(model)
@@ -169,7 +186,9 @@ def test_the_landing_slip_lies_along_the_way_after_the_crossing():
     """The landing step onto the valley's edge (the history accepted before the touch, the
     state a share 0.3 of the run on): theta is the crossing's share of the step, and the
     point's offset from its landing anchor, across nu, is its way's part after the crossing
-    (along the edge: cosine 1 with the way's tangential part)."""
+    (along the edge: cosine 1 with the way's tangential part). The landing kept for the state
+    (elements/ply_landing_kept.py, the one the loads and the history take) anchors the edge
+    row at its crossing's place."""
     model = landing_run(VALLEY)
     block, row = carried_point(model)
     state = model.compile().initial_state()
@@ -185,10 +204,13 @@ def test_the_landing_slip_lies_along_the_way_after_the_crossing():
     history = block.update_history(at(0.2), history)  # clear: 0.0013 mm over the line
     now = at(0.3)
     facing = block.facing(now)
-    found = ply_landing.landing(block, now, history, facing)
+    # as the loads, the energy, the tangent and the accepted history take it: kept per state
+    found, landed = ply_landing_kept.kept_landing(block, now, history, facing)
     assert found is not None and list(found.rows) == [row] and found.edge is not None
     assert found.edge[0] and found.theta[0] == pytest.approx(0.13, rel=1e-9)
-    sliding = block.friction_state(now, ply_landing.landed(block, now, history, facing), facing)
+    assert found.place is not None and np.array_equal(landed.anchor[row], found.place[0])
+    assert ply_landing_kept.kept_landing(block, now, history, facing)[1] is landed
+    sliding = block.friction_state(now, landed, facing)
     way = move * 0.1 * (1.0 - found.theta[0])
     offset = sliding.offset[row]
     across = offset - offset[2] * np.array([0.0, 0.0, 1.0])
@@ -243,13 +265,17 @@ def test_beside_a_growth_the_gaps_zero_is_the_triangles_plane():
     np.testing.assert_allclose(place @ corners[0], crossing * [1.0, 1.0, 0.0], atol=1e-14)
 
 
-def test_a_point_leaving_beside_a_growths_edge_slips_by_its_offset_across_nu():
+@pytest.mark.parametrize(
+    "departure", [ply_departure.departure, ply_departure_kernels.departure_slip]
+)
+def test_a_point_leaving_beside_a_growths_edge_slips_by_its_offset_across_nu(departure):
     """A point beside a growth's edge (``Facing.on_growth``: T's normal signs its gap) touched
     with its spring across the edge gap's normal nu, nearly in T's plane: its departure slip
     is the offset's part across nu. The flat plies of tests/ply_pair.py, every point anchored
     v = (3, 4, 0) um behind its projection, 0.02 mm under T's plane then and 0.01 over it now
     (no way along the face): on T's plane the slip is |v| = 5 um; flagged beside a growth's
-    edge with nu = x it is 4 um, with nu along v 0."""
+    edge with nu = x it is 4 um, with nu along v 0. The numpy departure and the compiled one
+    alike, and the fused history pass's records (elements/ply_friction_pass.py)."""
     compiled = moved_plies(0.01, 0.0, 0.0).compile()
     block, state = compiled.interactions[0], compiled.initial_state()
     facing = block.facing(state)
@@ -267,13 +293,31 @@ def test_a_point_leaving_beside_a_growths_edge_slips_by_its_offset_across_nu():
     )
     off = np.zeros(count, dtype=bool)
     now = dataclasses.replace(facing, touching=off, face=plane + 0.01 * facing.normal)
-    rows, slip = ply_departure.departure(block, y, history, now)
+    rows, slip = departure(block, y, history, now)
     assert len(rows) == count
     np.testing.assert_allclose(slip, 0.005, rtol=1e-12)
     for nu, expected in (([1.0, 0.0, 0.0], 0.004), ([0.6, 0.8, 0.0], 0.0)):
         beside = dataclasses.replace(
             now, on_edge=~off, on_growth=~off, joined=off, normal=np.tile(nu, (count, 1))
         )
-        rows, slip = ply_departure.departure(block, y, history, beside)
+        rows, slip = departure(block, y, history, beside)
         assert len(rows) == count
         np.testing.assert_allclose(slip, expected, atol=1e-15)
+        # the fused history pass writes those slips into the accepted records
+        last = (history.triangle, history.anchor, history.slip, history.pressing)
+        leaving = ply_departure.leaving(block, history, beside)
+        _, moved, _ = history_pass(block, beside, y, last, None, leaving, sides)
+        np.testing.assert_allclose(moved[2], expected, atol=1e-15)
+
+
+def test_curved_faces_mark_no_point_facing_an_edge():
+    """The edge rule never reaches the curved faces' landing tangent
+    (elements/ply_curved_friction.py ``landing_anchor``, which makes the face rule's anchor
+    again): their facing marks no point's gap to an edge or a vertex, so every curved landing
+    row is a face row (the [0/45] pair on the 50-mm sphere, every touching point landing)."""
+    block, state, history = curved_landing_plies(smoothing=0.05)
+    facing = block.facing(state)
+    assert block.curved and facing.on_edge is None
+    found = ply_landing.landing(block, state, history, facing)
+    assert found is not None and len(found.rows) >= 40
+    assert found.edge is None and found.place is None

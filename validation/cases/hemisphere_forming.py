@@ -378,6 +378,8 @@ def flange_start(rim: float = DIE_RIM) -> float:
 def holder_closing(tau):
     """The holder's force amplitude at the step's progress ``tau``: smooth from 0 to 1 over
     the first ``HOLDER_CLOSING`` of the step, then 1."""
+    if isinstance(tau, float):  # a step's one tau: the same operations without numpy's calls
+        return smooth_step(min(tau / HOLDER_CLOSING, 1.0))
     return smooth_step(np.minimum(np.asarray(tau, dtype=float) / HOLDER_CLOSING, 1.0))
 
 

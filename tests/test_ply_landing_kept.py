@@ -1,0 +1,83 @@
+"""A ply contact's landing points are found once per state and history (elements/
+ply_landing_kept.py): the loads, the energy, the tangent and the accepted history at one state
+from one history share one ``ply_landing.landing``, whose answers are those found afresh at
+each ask; another history, or the same one edited in place, is answered afresh."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from elements import ply_landing
+from elements.ply_sides import TOUCHING
+from tests.test_ply_landing import landing_plies
+
+
+def counted(monkeypatch) -> list[int]:
+    """``ply_landing.landing`` counted: a list holding the number of its calls."""
+    calls = [0]
+    landing = ply_landing.landing
+
+    def counting(*args, **kwargs):
+        calls[0] += 1
+        return landing(*args, **kwargs)
+
+    monkeypatch.setattr(ply_landing, "landing", counting)
+    return calls
+
+
+def test_the_loads_energy_tangent_and_history_of_a_state_find_its_landing_once(monkeypatch):
+    """Each of the four asks found it before; now the first alone, and each answer the same
+    bits as with nothing kept."""
+    block, state, history = landing_plies(0.05, "normal law")
+    fresh = []
+    for _ in range(2):  # with nothing kept at each ask: the answers found afresh
+        block._landing_at = None
+        force = block.internal_force(state, history)
+        block._landing_at = None
+        energy = block.strain_energy(state, history)
+        block._landing_at = None
+        blocks = block.tangent(state, history)[-1].blocks
+        block._landing_at = None
+        fresh.append((force, energy, blocks, block.update_history(state, history)))
+    block._landing_at = None
+    calls = counted(monkeypatch)
+    force = block.internal_force(state, history)
+    energy = block.strain_energy(state, history)
+    blocks = block.tangent(state, history)[-1].blocks
+    accepted = block.update_history(state, history)
+    assert calls[0] == 1
+    expected = fresh[0]
+    for axis in range(2):
+        assert force[axis].tobytes() == expected[0][axis].tobytes()
+    assert energy == expected[1]
+    assert blocks.tobytes() == expected[2].tobytes()
+    assert accepted.anchor.tobytes() == expected[3].anchor.tobytes()
+    assert accepted.dissipated == expected[3].dissipated
+
+
+def test_another_history_or_one_edited_in_place_is_answered_afresh(monkeypatch):
+    """The keep serves the history it was found from, unedited: a history whose sides are
+    made TOUCHING in place after a landing was found has none (its points touched at the
+    accepted state: tests/test_ply_landing.py), and a copy of it is asked again."""
+    block, state, history = landing_plies(0.05, "normal law")
+    facing = block._held(state, history)
+    calls = counted(monkeypatch)
+    block.internal_force(state, history)
+    assert calls[0] == 1
+    assert ply_landing.landing(block, state, history, facing) is not None
+    assert history.sides is not None
+    history.sides.sides[:] = TOUCHING
+    block.internal_force(state, history)
+    assert calls[0] == 3
+    assert block._landing_at[5] is None  # found afresh: no landing
+    copy = type(history)(
+        history.triangle.copy(),
+        history.anchor.copy(),
+        history.slip,
+        history.pressing,
+        history.dissipated,
+        history.sides,
+    )
+    block.internal_force(state, copy)
+    assert calls[0] == 4
+    assert np.array_equal(block._landing_at[6].triangle, history.triangle)
