@@ -181,6 +181,22 @@ if variant == "faces":
             facing = dataclasses.replace(facing, touching=touching, on_edge=None)
         return landing(block, state, history, facing)
     ply_departure.leaving, ply_landing.landing = face_leaving, face_landing
+counts = {"edge landings": 0, "edge leavings": 0, "growth-edge leavings": 0}
+if variant in ("numpy", "edges"):  # the edge rows counted (the calls' answers unchanged)
+    from elements import ply_departure, ply_landing
+    leaving, landing = ply_departure.leaving, ply_landing.landing
+    def counted_leaving(block, history, facing):
+        rows = leaving(block, history, facing)
+        if facing.on_edge is not None:
+            counts["edge leavings"] += int(facing.on_edge[rows].sum())
+            counts["growth-edge leavings"] += int(ply_departure.beside_growth(facing, rows).sum())
+        return rows
+    def counted_landing(block, state, history, facing):
+        found = landing(block, state, history, facing)
+        if found is not None and found.edge is not None:
+            counts["edge landings"] += int(found.edge.sum())
+        return found
+    ply_departure.leaving, ply_landing.landing = counted_leaving, counted_landing
 with tempfile.TemporaryDirectory() as folder:
     records = Path(folder) / "history.csv"
     result = case_solver(name, kinematics, share=share, history=records).solve(
@@ -194,6 +210,7 @@ print(json.dumps({
     "positions": hashlib.sha256(result.positions.tobytes()).hexdigest()[:16],
     "records": hashlib.sha256(table).hexdigest()[:16],
     "steps": table.count(b"\\n") - 1,
+    "counts": counts,
 }))
 """
 SHORT_RUNS = (("0/90", "mindlin", 0.03), ("0/45", "fibrous", 0.051))
@@ -233,15 +250,17 @@ def _short_bits(once) -> None:
         records = ", ".join(
             f"{column} {reference[column][-1]:.6g} -> {edges[column][-1]:.6g}" for column in columns
         )
-        same = {key: runs[key] == runs[other] for key, other in (("faces", "reference"),
-                                                                 ("numpy", "edges"))}  # fmt: skip
+        digest = {key: (run["positions"], run["records"]) for key, run in runs.items()}
+        pairs = (("faces", "reference"), ("numpy", "edges"))
+        same = {key: digest[key] == digest[other] for key, other in pairs}
         print(
             f"[{name}] {kinematics} over {runs['edges']['steps']} steps: the face points alone "
             f"against the reference: {'the same bits' if same['faces'] else 'DIFFER'}; the "
             f"numpy departure against the compiled one: "
             f"{'the same bits' if same['numpy'] else 'DIFFER'}; with the edge rule the final "
             f"positions moved by {moved.max():.3e} mm at most (rms "
-            f"{np.sqrt(np.mean(moved**2)):.3e}); {records}",
+            f"{np.sqrt(np.mean(moved**2)):.3e}); {records}; {runs['edges']['counts']} "
+            f"(numpy: {runs['numpy']['counts']})",
             flush=True,
         )
 

@@ -52,7 +52,10 @@ grad phi_k^T + h (grad phi_k . grad phi_m) n^T. The flat faces' tangent carries 
 (elements/ply_friction.py ``friction_tangent``); the curved faces' tangent makes the anchor
 again from each point's local data in its complex steps (elements/ply_curved_friction.py
 ``landing_anchor``: the projection, its normal and theta moving, the places then held), so
-its derivative there is exact as the rest of that tangent.
+its derivative there is exact as the rest of that tangent; it knows the face rule alone, the
+curved faces' facing marking no point's gap to an edge or a vertex. The loads, the energy,
+the tangent and the accepted history at a state take one ``landing`` (the edge rows' places
+in it), found once (elements/ply_landing_kept.py).
 """
 
 from __future__ import annotations
