@@ -54,6 +54,7 @@ from typing import Any
 import numpy as np
 
 ROOT = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(ROOT))  # this tree first, run from anywhere
 TIMES = ("_cpu_time_s", "_wall_time_s", "_cpu_s", "_wall_s")
 
 

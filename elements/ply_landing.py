@@ -74,7 +74,7 @@ if TYPE_CHECKING:
     from elements.ply_projection import Facing
     from femcore.state import State
 
-__all__ = ["Landing", "edge_crossing", "landed", "landing", "plane_places"]
+__all__ = ["Landing", "edge_crossing", "landed", "landing", "landing_rows", "plane_places"]
 
 
 @dataclass(frozen=True)
@@ -148,6 +148,18 @@ def plane_places(corners: np.ndarray, point: np.ndarray) -> tuple[np.ndarray, np
     return weights, np.einsum("ri,ri->r", normal, relative)
 
 
+def landing_rows(block: PlyContactBlock, history: PlyFrictionHistory, facing: Facing) -> np.ndarray:
+    """(r,) the rows of the points landing at the state ``facing`` is of from the accepted
+    ``history`` (``landing``: touching now, without an anchor and not touching then); none
+    without friction or where the history keeps no sides. A few masks: what a step where no
+    point lands costs (elements/ply_landing_kept.py asks it before its keep)."""
+    sides = history.sides
+    if sides is None or block.friction <= 0.0:
+        return np.empty(0, dtype=np.intp)
+    # (points facing an edge or a vertex among them: they land by ``edge_crossing``)
+    return np.flatnonzero(facing.touching & (history.triangle < 0) & (sides.sides != TOUCHING))
+
+
 def landing(
     block: PlyContactBlock, state: State, history: PlyFrictionHistory, facing: Facing
 ) -> Landing | None:
@@ -155,13 +167,11 @@ def landing(
     ``history``: touching now, without an anchor and not touching then (their side; a history
     whose anchors a caller dropped from touching points leaves them without friction, as
     before); None where there are none (or the history keeps no sides: no place then)."""
-    sides = history.sides
-    if sides is None or block.friction <= 0.0:
-        return None
-    lands = facing.touching & (history.triangle < 0) & (sides.sides != TOUCHING)
-    rows = np.flatnonzero(lands)
+    rows = landing_rows(block, history, facing)
     if len(rows) == 0:
         return None
+    sides = history.sides
+    assert sides is not None  # (landing_rows finds none without them)
     triangle = facing.triangle[rows]
     before = sides.corners[triangle]
     then = sides.faces[rows]

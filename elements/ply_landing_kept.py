@@ -51,7 +51,11 @@ def kept_landing(
 ) -> tuple[Landing | None, PlyFrictionHistory]:
     """(``ply_landing.landing``, ``ply_landing.landed`` with it) at ``state`` (``facing``
     there) from ``history``: found once, then kept for that history and facing (module
-    docstring)."""
+    docstring). Where no point lands (most steps) the answer is the history itself, found by
+    ``landing_rows``' few masks: cheaper than the keep's own check, which copies the history's
+    bytes (0.03 against 0.46 ms at 60k points)."""
+    if len(ply_landing.landing_rows(block, history, facing)) == 0:
+        return None, history
     kept = getattr(block, "_landing_at", None)
     if (
         kept is not None

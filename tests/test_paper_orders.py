@@ -311,9 +311,9 @@ def test_the_report_s_bai_5_1_runs_and_order_runs_aim_at_the_case_s_arc_iteratio
     with pytest.raises(_Solved):
         if path == "runs":
             paper.compute_paper_case(spec, "coarse")
-        else:  # the coarse sequence starts on a mesh of its own (6 cells)
-            assert spec.order_cells["coarse"][0] != spec.cells["coarse"]
-            paper.refinement_orders(spec, "coarse", None, {})
+        else:  # the default sequence starts on a mesh of its own (15 cells)
+            assert spec.order_cells["default"][0] != spec.cells["default"]
+            paper.refinement_orders(spec, "default", None, {})
     assert aims == [spec.arc_iterations] and spec.arc_iterations == 10
     case_file = read_case_data(Path(__file__).parents[1] / "cases" / "bai-5.1.toml")
     assert case_file["solver"]["arc_iterations"] == spec.arc_iterations
@@ -341,10 +341,32 @@ def test_the_report_s_paper_runs_take_the_case_s_chord_steps(name, path, monkeyp
     with pytest.raises(_Solved):
         if path == "runs":
             paper.compute_paper_case(spec, "coarse")
-        else:  # the coarse sequence starts on a mesh of its own
-            assert spec.order_cells["coarse"][0] != spec.cells["coarse"]
-            paper.refinement_orders(spec, "coarse", None, {})
+        else:  # the default sequence starts on a mesh of its own
+            assert spec.order_cells["default"][0] != spec.cells["default"]
+            paper.refinement_orders(spec, "default", None, {})
     expected = 0.0 if name == "bai_5_1" else paper.ARC_CHORDS
     assert ratios == [expected] and spec.arc_chords == expected
     case_file = read_case_data(Path(__file__).parents[1] / "cases" / f"{spec.name}.toml")
     assert case_file["solver"].get("arc_chords", 0.0) == spec.arc_chords
+
+
+@pytest.mark.parametrize("name", ["bai_5_1", "bai_6_1_1", "bai_6_1_2", "bai_6_2_1", "bai_6_2_2"])
+def test_the_coarse_paper_cases_run_no_refinement_runs(name, monkeypatch):
+    """At the coarse resolution (the test suite's background report) a paper case solves its
+    three kinematics on its own mesh and nothing more: its observed orders, on pre-asymptotic
+    meshes and checked at no tolerance there, cost about a quarter of its time
+    (validation/paper/case.py ``order_cells``). The default and fine resolutions keep theirs."""
+    import importlib
+
+    import validation.paper.case as paper
+
+    spec = importlib.import_module(f"validation.cases.{name}").SPEC
+
+    def unexpected(*args, **kwargs):
+        raise AssertionError("a refinement run at the coarse resolution")
+
+    monkeypatch.setattr(paper, "solve", unexpected)
+    orders, cost = paper.refinement_orders(spec, "coarse", None, {})
+    assert orders is None and cost["runs"] == []
+    assert "coarse" not in spec.order_cells
+    assert {"default", "fine"} <= set(spec.order_cells)

@@ -5,9 +5,11 @@ each ask; another history, or the same one edited in place, is answered afresh."
 
 from __future__ import annotations
 
+import dataclasses
+
 import numpy as np
 
-from elements import ply_landing
+from elements import ply_landing, ply_landing_kept
 from elements.ply_sides import TOUCHING
 from tests.test_ply_landing import landing_plies
 
@@ -56,20 +58,18 @@ def test_the_loads_energy_tangent_and_history_of_a_state_find_its_landing_once(m
 
 
 def test_another_history_or_one_edited_in_place_is_answered_afresh(monkeypatch):
-    """The keep serves the history it was found from, unedited: a history whose sides are
+    """The keep serves the history it was found from, unedited: a copy of it (another object,
+    the same arrays' values) is asked again and answered the same, and so is the same history
+    at another facing (another state); the history whose sides are
     made TOUCHING in place after a landing was found has none (its points touched at the
-    accepted state: tests/test_ply_landing.py), and a copy of it is asked again."""
+    accepted state: tests/test_ply_landing.py), not the kept one."""
     block, state, history = landing_plies(0.05, "normal law")
     facing = block._held(state, history)
     calls = counted(monkeypatch)
     block.internal_force(state, history)
     assert calls[0] == 1
-    assert ply_landing.landing(block, state, history, facing) is not None
-    assert history.sides is not None
-    history.sides.sides[:] = TOUCHING
-    block.internal_force(state, history)
-    assert calls[0] == 3
-    assert block._landing_at[5] is None  # found afresh: no landing
+    kept = block._landing_at
+    assert kept[5] is not None
     copy = type(history)(
         history.triangle.copy(),
         history.anchor.copy(),
@@ -79,5 +79,13 @@ def test_another_history_or_one_edited_in_place_is_answered_afresh(monkeypatch):
         history.sides,
     )
     block.internal_force(state, copy)
-    assert calls[0] == 4
-    assert np.array_equal(block._landing_at[6].triangle, history.triangle)
+    assert calls[0] == 2
+    assert np.array_equal(block._landing_at[5].rows, kept[5].rows)
+    assert np.array_equal(block._landing_at[6].anchor, kept[6].anchor, equal_nan=True)
+    again = dataclasses.replace(facing)  # another state's facing (the same values here)
+    ply_landing_kept.kept_landing(block, state, copy, again)
+    assert calls[0] == 3
+    assert history.sides is not None
+    history.sides.sides[:] = TOUCHING
+    found, landed = ply_landing_kept.kept_landing(block, state, history, facing)
+    assert found is None and landed is history

@@ -100,7 +100,11 @@ class PaperCase:
     # The three meshes (cells arguments, coarsest first) on which the observed orders of the
     # reported quantities are measured at each resolution; the resolution's own mesh is one of
     # them (its runs are reused), the two others are solved with the fibrous and the Mindlin
-    # kinematics only. A resolution left out shows no orders.
+    # kinematics only. A resolution left out shows no orders. The coarse resolution names none
+    # in any paper case: its sequences (bai-5.1 6-8-12, the corners 5-10-20 and 4-6-8) were
+    # pre-asymptotic and reported only, no check on them, and their eight extra runs cost
+    # about a quarter of the five cases' coarse CPU (17.4 -> 13.1 s without them, case_cpu_s
+    # summed, one job, a warm numba cache, load 5-8), in the test suite's background report.
     order_cells: dict[str, tuple[int, int, int]] = field(default_factory=dict)
     # Per resolution and quantity ("mindlin deflection", "fibrous thickness": orders.order_kind),
     # the largest |Richardson value - finest value| / |finest value| that passes (with a
