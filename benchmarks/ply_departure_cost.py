@@ -24,13 +24,13 @@ whether the face points alone are the reference's bits and the numpy departure t
 one's (final positions and energy and tool records, step by step), how far the edge rule
 moves the final positions and the friction record, and how many edge rows land and leave.
 
-Measured so against main 8d92574 (load 6.5-7.8): Mindlin [0/90] over 405 steps, 13 edge
-landings, 20 edge rows leaving (9 beside a growth's edge): the face points alone the same
-bits as the reference, the numpy and compiled departures the same bits, the edge rule moves
-the final positions by 0.0772 mm at most (rms 0.0153), the friction record 114.926 ->
-114.994 N mm; fibrous [0/45] over 266 steps, no edge landing, 7 edge rows leaving (none
-beside a growth): the same bits both ways, the positions the same bits (the departure moves
-records only), the friction record 802.538 -> 802.617 N mm.
+Measured so against main 8d92574 and 496f564 alike (load 5.5-7.8): Mindlin [0/90] over 405
+steps, 13 edge landings, 20 edge rows leaving (9 beside a growth's edge): the face points
+alone the same bits as the reference, the numpy and compiled departures the same bits, the
+edge rule moves the final positions by 0.0772 mm at most (rms 0.0153), the friction record
+114.926 -> 114.994 N mm; fibrous [0/45] over 266 steps, no edge landing, 7 edge rows leaving
+(none beside a growth): the same bits both ways, the positions the same bits (the departure
+moves records only), the friction record 802.538 -> 802.617 N mm.
 
 Measured (one thread; 2 cores shared with other jobs, load 7.2-9.6), the history update best
 of 15: no point leaving 1.00 / 1.14 ms with the compiled departure, 1.07 / 1.16 with the
