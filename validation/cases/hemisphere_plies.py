@@ -47,7 +47,8 @@ With the edge-gap points landing and leaving too (docs/theory.md §9.3a), the Mi
 run's checks pass at mu and at mu x (1 + d), d from -1e-5 to 1e-5 (seven runs): the share above
 KE / W 0.1 0.011-0.045, the least gap in the die -0.145 to -0.149 mm, the holder 19.997-20.002
 N; its reported measures move (largest slip 0.60-8.48 mm, corners 11.0-13.1 mm, end force
-136.0-141.2 N: the run snaps late at this pace, tests/test_hemisphere_plies_pace.py).
+136.0-141.2 N: the run snaps late at this pace; slowed x4 the largest slip 0.56-0.60 mm,
+the corners 13.0-13.2 mm, tests/test_hemisphere_plies_pace.py).
 Not time-scaled: the fibrous [0/90]
 stroke in 0.067 s (x1.5) put KE / W above 0.1 over 13.7 % of the judged run (peak 0.28) and
 fails the quasi-static check, though its compared numbers hardly moved
