@@ -39,11 +39,11 @@ seven runs at the case's pace (x2) end at a largest slip of 0.597-8.477 mm, an r
 late force of 94.52-95.78 N; the six slowed x4 (d the same but 3e-6) at 0.561-0.601,
 0.271-0.284, 30.23-30.33 / 30.37-30.48, 12.99-13.22 / 12.96-13.20 mm and 94.41-95.75 N; slowed
 x8 (d = 0) 0.595, 0.280, 30.27 / 30.43, 13.07 / 13.05 mm and 94.95 N, within x4's. The x2 runs
-do not scatter as the x4 runs do: they sit apart. Every x2 run of this rule snaps late (the largest slip's
-peak over the frames of the last 0.15 of the stroke's time 1.49-8.51 mm; the code before the
-edge rule's x2 runs at d in {-1e-5, -3e-6, -1e-6, 0, 1e-6} 0.98-8.88 mm, four of five above
-1.3, and they end at 0.584-8.776 mm, rms 0.278-1.716, corners 11.25-13.31 mm: the scatter is
-not the edge rule's); of the x4 runs one of the code before's two does, for
+do not scatter as the x4 runs do: they sit apart. Every x2 run of this rule snaps late (the
+largest slip's peak over the frames of the last 0.15 of the stroke's time 1.49-8.51 mm; the
+code before the edge rule's x2 runs at d in {-1e-5, -3e-6, -1e-6, 0, 1e-6} 0.98-8.88 mm, four
+of five above 1.3, and they end at 0.584-8.776 mm, rms 0.278-1.716, corners 11.25-13.31 mm:
+the scatter is not the edge rule's); of the x4 runs one of the code before's two does, for
 0.02 of the stroke (2.33 mm at 0.92 of it, 0.57 mm from 0.94 on), this rule's six do not
 (0.60-1.07 mm); whether an x2 run ends inside its snap (d = 0: 2.551 mm; d = -3e-6: 8.477) or
 after it (0.60-0.71 mm), with its corners where x4's are or 2 mm short (d = -1e-5), is chance.
