@@ -28,21 +28,23 @@ point q there, g = +-|p - q| along nu = (p - q) / g, not T's normal) lands by th
 (``edge_crossing``), its zero through q taken as a plane of normal m: m = nu where the feature's
 pseudonormal signs g (g passes zero at q; the plane normal to nu is its zero to first order
 about the state now), m = T's normal where T's normal signs it (beside a growth's edge, at an
-outline vertex, on a cut: g = sign(h) |p - q| changes sign where p passes T's plane, h = 0,
-and the fade's w starts from 0 there). So g_0 = max(m . (p_0 - q_0), 0), q_0 = sum_k lambda_k
-y_0,k the same point of the same edge or vertex on T's corners then (lambda its barycentric
-coordinates now), pen = max(-m . (p - q), 0), theta = g_0 / (g_0 + pen); the crossing's place
-is interpolated between the places then and now on T's planes, heights included (p = sum
-Lambda_k y_k + h n), and moved along nu onto T's plane (where the anchor is kept; along n
-where nu lies within 84 deg of T's plane, as the accepted history re-expresses a moved
-anchor), so that the slip, measured across nu as the friction measures it, is the way's part
-across nu after the crossing. Exact for a way straight relative to the lower face that crosses
-the edge's line (the gap linear over the step) with T's corners moved affinely; elsewhere a
-rule. Before it such a point did not land (anchored at its projection once the step was
-accepted): with g_0 T's plane's against a penetration to the edge, the hemisphere-plies
-Mindlin [0/90] run's slipped up to 0.090 mm against ways of at most 0.029 mm (docs/theory.md
-§9.3a). Its anchor is held fixed by the tangent over the landing step (dtheta and the
-anchor's motion 0 on its rows).
+outline vertex, on a cut: g = sign(h) |p - q| changes sign where p passes T's plane, h = 0, and
+the fade's w starts from 0 there). So g_0 = max(m . (p_0 - q_0), 0), q_0 = sum_k lambda_k y_0,k
+the same point of the same edge or vertex on T's corners then (lambda its barycentric
+coordinates now), pen = max(-m . (p - q), 0), theta = g_0 / (g_0 + pen); the crossing's place is
+interpolated between the places then and now on T's planes, heights included (p = sum Lambda_k
+y_k + h n), and moved along nu onto T's plane (where the anchor is kept; along n where nu lies
+within 6 deg of T's plane, |nu . n| <= 0.1, as the accepted history re-expresses a moved anchor;
+there the crossing's height over T's plane, at most |h|, counts as slip across nu: a known
+limit, a jump of about |h| at |nu . n| = 0.1, behind the hemisphere run's 6 of 30233 edge
+landings slipping against their way), so that the slip, measured across nu as the friction
+measures it, is the way's part across nu after the crossing. Exact for a way straight relative
+to the lower face that crosses the edge's line (the gap linear over the step) with T's corners
+moved affinely; elsewhere a rule. Before it such a point did not land (anchored at its
+projection once the step was accepted): with g_0 T's plane's against a penetration to the edge,
+the hemisphere-plies Mindlin [0/90] run's slipped up to 0.090 mm against ways of at most 0.029
+mm (docs/theory.md §9.3a). Its anchor is held fixed by the tangent over the landing step (dtheta
+and the anchor's motion 0 on its rows).
 
 The anchor moves with the state: dLambda_a/dz = theta dLambda/dz + (Lambda - Lambda_0)
 dtheta/dz over z = (p, y_1, y_2, y_3) (T's corners now), with dtheta/dz = g_0 / (g_0 +

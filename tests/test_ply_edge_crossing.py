@@ -321,3 +321,76 @@ def test_curved_faces_mark_no_point_facing_an_edge():
     found = ply_landing.landing(block, state, history, facing)
     assert found is not None and len(found.rows) >= 40
     assert found.edge is None and found.place is None
+
+
+UNIT = np.array([[[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]]])  # T on z = 0, mm
+
+
+def test_a_way_straight_through_an_edge_of_a_moving_face_crosses_at_its_share_of_the_step():
+    """T carried by u over the step, a point's way straight through T's edge y = 0 relative to
+    T, crossing it at the share t_c of the step: the gap along nu (no part along the edge) is
+    linear in time, so theta = t_c exactly (docs/theory.md §9.3a). g_0 is taken to the edge's
+    point on T's corners then: on T's corners now it gives 0.4436 for 0.37."""
+    u, way, t_c = np.array([0.01, -0.02, 0.003]), np.array([0.02, -0.03, -0.05]), 0.37
+    crossing = np.array([0.4, 0.0, 0.0])  # on the edge, relative to T
+    then, now = crossing - t_c * way, crossing + u + (1.0 - t_c) * way
+    closest = np.array([crossing[0] + (1.0 - t_c) * way[0], 0.0, 0.0])  # on the edge, T then
+    feature = np.array([[1.0 - closest[0], closest[0], 0.0]])
+    nu = -(now - (closest + u)) / np.linalg.norm(now - (closest + u))  # g < 0: through
+    theta, _ = ply_landing.edge_crossing(
+        UNIT, UNIT + u, then[None], now[None], feature, nu[None], nu[None]
+    )
+    assert abs(theta[0] - t_c) <= 1e-12
+
+
+def test_an_edge_points_anchor_lies_on_the_face_off_its_crossing_only_along_nu():
+    """A way passing beside an edge's line (m = nu tilted 37 deg from T's normal): the anchor
+    lies on T's plane and differs from the way's crossing p_c = p_0 + theta (p - p_0) only
+    along nu, so that the slip the friction measures across nu is the way's after the crossing
+    (docs/theory.md §9.3a). Without the move along nu onto T's plane it is 1.4e-3 mm across."""
+    q, nu = np.array([0.5, 0.0, 0.0]), np.array([0.0, -0.6, 0.8])
+    then = q + np.array([0.05, -0.01, 0.03])
+    now = q + np.array([0.1, 0.0, 0.0]) - 0.02 * nu
+    theta, place = ply_landing.edge_crossing(
+        UNIT, UNIT, then[None], now[None], np.array([[0.5, 0.5, 0.0]]), nu[None], nu[None]
+    )
+    anchor = place[0] @ UNIT[0]
+    offset = anchor - (then + theta[0] * (now - then))
+    assert abs(anchor[2]) <= 1e-12
+    assert np.linalg.norm(offset - (offset @ nu) * nu) <= 1e-12
+    assert 0.0 < theta[0] < 1.0
+
+
+def test_beside_a_growths_edge_the_gaps_zero_is_the_faces_plane():
+    """Points landing beside a growth's edge (``Facing.on_growth``, not joined), whose gap's
+    sign is T's normal's: the zero their way crossed is T's plane, theta = h_0 / (h_0 - h)
+    from their heights over it then and now (docs/theory.md §9.3a), whatever nu (here 80 deg
+    from T's normal). With m = nu it is off by up to 0.3."""
+    block, state, history = landing_plies(0.05, "normal law")
+    facing = block.facing(state)
+    rows = ply_landing.landing_rows(block, history, facing)
+    flag = np.zeros(len(facing.gap), dtype=bool)
+    flag[rows] = True
+    tilted = np.array([np.sin(np.radians(80.0)), 0.0, np.cos(np.radians(80.0))])
+    beside = dataclasses.replace(
+        facing,
+        on_edge=flag,
+        on_growth=flag,
+        joined=np.zeros_like(flag),
+        normal=np.where(flag[:, None], tilted, facing.normal),
+    )
+    found = ply_landing.landing(block, state, history, beside)
+    assert found is not None and len(found.rows) >= 10
+
+    def height(corners, points):
+        normal = np.cross(corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0])
+        normal /= np.linalg.norm(normal, axis=1)[:, None]
+        return np.einsum("ri,ri->r", normal, points - corners[:, 0])
+
+    _, y = block._faces(state)
+    triangle = facing.triangle[found.rows]
+    assert history.sides is not None
+    h0 = np.maximum(height(history.sides.corners[triangle], history.sides.faces[found.rows]), 0)
+    h = height(y[triangle], facing.face[found.rows])
+    expected = np.where(h < 0.0, h0 / (h0 - h), 1.0)
+    assert np.abs(found.theta - expected).max() <= 1e-9
