@@ -22,8 +22,9 @@ def test_each_run_lasts_its_own_stroke_with_a_frame_every_hundredth(name, kinema
 
 
 def test_the_mindlin_0_90_run_is_the_one_slowed_to_its_quasi_static_pace():
-    # docs/hemisphere_forming.md "the two plies' pace": x2 on [0/90] Mindlin, none elsewhere
-    assert run.case_settings("0/90", "mindlin")["duration"] == pytest.approx(2 * DURATION)
+    # x4 on [0/90] Mindlin, none elsewhere: x2 (docs/hemisphere_forming.md "the two plies'
+    # pace") snapped late in the stroke (validation/studies/hemisphere_plies_pace_scatter.py)
+    assert run.case_settings("0/90", "mindlin")["duration"] == pytest.approx(4 * DURATION)
     assert run.case_settings("0/45", "mindlin")["duration"] == pytest.approx(DURATION)
     assert run.case_settings("0/90", "fibrous")["duration"] == pytest.approx(DURATION)
 
