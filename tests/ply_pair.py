@@ -22,6 +22,33 @@ PENALTY = 50.0  # N/mm per point
 CAP_RADIUS = 20.0  # mm, the curved lower ply's mid-surface (``capped_plies``)
 
 
+def _plies_model(
+    lower: tuple[np.ndarray, np.ndarray], upper: tuple[np.ndarray, np.ndarray], **contact
+) -> Model:
+    """The two plies' model: the lower ply's points (n, 3) mm and triangles, then the upper
+    one's (node and cell sets "lower" and "upper"), each a Mindlin shell (aluminium, 2 HALF
+    thick), and their contact ``PlyContact("upper", "lower", HALF, HALF, penalty=PENALTY,
+    **contact)``."""
+    (low_points, low_triangles), (up_points, up_triangles) = lower, upper
+    count, cells = len(low_points), len(low_triangles)
+    nodes = count + len(up_points)
+    mesh = Mesh(
+        np.vstack([low_points, up_points]),
+        triangles=np.vstack([low_triangles, np.asarray(up_triangles) + count]),
+        node_sets={"lower": np.arange(count), "upper": np.arange(count, nodes)},
+        element_sets={
+            "lower": np.arange(cells),
+            "upper": np.arange(cells, cells + len(up_triangles)),
+        },
+    )
+    model = Model(mesh)
+    shell = ElasticShell(E=70e3, nu=0.3, thickness=2 * HALF, density=2.7e-9)
+    for name in ("lower", "upper"):
+        model.add(MindlinShell(shell), cells=name)
+    model.interact(PlyContact("upper", "lower", HALF, HALF, penalty=PENALTY, **contact))
+    return model
+
+
 def moved_plies(gap: float, ux: float, uz: float, surface: str = "flat") -> Model:
     """The two plies: the lower one 6 x 6 mm in 3 x 3 cells, held (but a far corner free along
     z, which no contact reaches, so that Static has an unknown); the upper one 2 x 2 mm in 2 x
@@ -31,26 +58,11 @@ def moved_plies(gap: float, ux: float, uz: float, surface: str = "flat") -> Mode
     the Phong patches of a flat ply are its facets)."""
     lower = Mesh.rectangle(6.0, 6.0, nx=3, ny=3)
     upper = Mesh.rectangle(2.0, 2.0, nx=2, ny=2, origin=(0.7, 0.9, 2 * HALF + gap))
-    count, cells = len(lower.points), len(lower.triangles)
-    nodes = count + len(upper.points)
-    mesh = Mesh(
-        np.vstack([lower.points, upper.points]),
-        triangles=np.vstack([lower.triangles, upper.triangles + count]),
-        node_sets={"lower": np.arange(count), "upper": np.arange(count, nodes)},
-        element_sets={
-            "lower": np.arange(cells),
-            "upper": np.arange(cells, cells + len(upper.triangles)),
-        },
-    )
-    model = Model(mesh)
-    shell = ElasticShell(E=70e3, nu=0.3, thickness=2 * HALF, density=2.7e-9)
-    for name in ("lower", "upper"):
-        model.add(MindlinShell(shell), cells=name)
-    contact = PlyContact(
-        "upper", "lower", HALF, HALF, penalty=PENALTY, rule="gauss", smoothing=0.0,
-        friction=MU, surface=surface,
+    count, nodes = len(lower.points), len(lower.points) + len(upper.points)
+    model = _plies_model(
+        (lower.points, lower.triangles), (upper.points, upper.triangles),
+        rule="gauss", smoothing=0.0, friction=MU, surface=surface,
     )  # fmt: skip
-    model.interact(contact)
     model.fix(np.arange(count - 1))
     model.fix([count - 1], ("ux", "uy", "alpha", "beta"))
     model.fix(np.arange(count, nodes), ("alpha", "beta"))
@@ -79,28 +91,12 @@ def capped_plies(
     increments."""
     lower = Mesh.rectangle(12.0, 12.0, nx=4, ny=4, origin=(-6.0, -6.0, 0.0))
     upper = Mesh.rectangle(6.0, 6.0, nx=3, ny=3, origin=(-3.0, -3.0, 0.0))
-    count, cells = len(lower.points), len(lower.triangles)
-    nodes = count + len(upper.points)
-    mesh = Mesh(
-        np.vstack(
-            [_on_cap(lower, CAP_RADIUS, 0.0), _on_cap(upper, 1.5 * CAP_RADIUS, 2 * HALF + clear)]
-        ),
-        triangles=np.vstack([lower.triangles, upper.triangles + count]),
-        node_sets={"lower": np.arange(count), "upper": np.arange(count, nodes)},
-        element_sets={
-            "lower": np.arange(cells),
-            "upper": np.arange(cells, cells + len(upper.triangles)),
-        },
-    )
-    model = Model(mesh)
-    shell = ElasticShell(E=70e3, nu=0.3, thickness=2 * HALF, density=2.7e-9)
-    for name in ("lower", "upper"):
-        model.add(MindlinShell(shell), cells=name)
-    contact = PlyContact(
-        "upper", "lower", HALF, HALF, penalty=PENALTY, rule="gauss", smoothing=smoothing,
-        friction=mu, surface="curved", faces="normal",
+    count, nodes = len(lower.points), len(lower.points) + len(upper.points)
+    model = _plies_model(
+        (_on_cap(lower, CAP_RADIUS, 0.0), lower.triangles),
+        (_on_cap(upper, 1.5 * CAP_RADIUS, 2 * HALF + clear), upper.triangles),
+        rule="gauss", smoothing=smoothing, friction=mu, surface="curved", faces="normal",
     )  # fmt: skip
-    model.interact(contact)
     model.fix(np.flatnonzero(np.isclose(np.abs(lower.points[:, :2]).max(axis=1), 6.0)))
     model.fix(np.arange(count, nodes), ("alpha", "beta"))
     model.displace(np.arange(count, nodes), ux=ux, uy=0.0, uz=uz, amplitude="linear")
@@ -145,22 +141,11 @@ def folded_plies(gap: float, uy: float, uz: float, dip: float, unknown: bool = T
     corner = np.array([[2.0, 2.3, 0.0], [4.0, 2.3, 1.0], [3.0, 4.0, 1.0]])
 
     def built(shift: np.ndarray) -> Model:
-        count, cells = len(points), len(lower.triangles)
-        mesh = Mesh(
-            np.vstack([points, corner + shift]),
-            triangles=np.vstack([lower.triangles, [[count, count + 1, count + 2]]]),
-            node_sets={"lower": np.arange(count), "upper": np.arange(count, count + 3)},
-            element_sets={"lower": np.arange(cells), "upper": np.array([cells])},
-        )
-        model = Model(mesh)
-        shell = ElasticShell(E=70e3, nu=0.3, thickness=2 * HALF, density=2.7e-9)
-        for name in ("lower", "upper"):
-            model.add(MindlinShell(shell), cells=name)
-        contact = PlyContact(
-            "upper", "lower", HALF, HALF, penalty=PENALTY, rule="nodes", smoothing=0.0,
-            friction=MU,
+        count = len(points)
+        model = _plies_model(
+            (points, lower.triangles), (corner + shift, np.array([[0, 1, 2]])),
+            rule="nodes", smoothing=0.0, friction=MU,
         )  # fmt: skip
-        model.interact(contact)
         model.fix(np.arange(count - 1) if unknown else np.arange(count))
         if unknown:
             model.fix([count - 1], ("ux", "uy", "alpha", "beta"))

@@ -121,15 +121,20 @@ def landing_plies(smoothing, stick, aside=1.0):
     are now."""
     block, state, _ = plies(rule="gauss", smoothing=smoothing, friction=MU, stick=stick)
     facing = block.facing(state)
-    count = len(facing.gap)
     faces, corners = block._faces(state)
     then = faces + aside * np.array([0.05, -0.03, 0.0]) + 0.3 * facing.normal
+    return block, state, clear_history(then, corners)
+
+
+def clear_history(then: np.ndarray, corners: np.ndarray) -> PlyFrictionHistory:
+    """A history where no point touched and none is anchored: each point's face point then
+    ``then`` (c, 3) mm, clear of the lower faces, whose corners then are ``corners``."""
+    count = len(then)
     sides = PlySides(np.full(count, CLEAR, dtype=np.int8), then, corners)
     nowhere = np.full((count, 3), np.nan)
-    history = PlyFrictionHistory(
+    return PlyFrictionHistory(
         np.full(count, -1), nowhere, np.zeros(count), np.zeros(count), 0.0, sides
     )
-    return block, state, history
 
 
 @pytest.mark.parametrize(
@@ -167,12 +172,7 @@ def curved_landing_plies(faces: str = "normal", smoothing=None, mirrored: bool =
     faces_now, corners = block._faces(state)
     aside = np.where(np.arange(count) % 2, 4.0, 1.0)[:, None] * np.array([0.05, -0.03, 0.0])
     then = faces_now + aside + 0.3 * facing.normal
-    sides = PlySides(np.full(count, CLEAR, dtype=np.int8), then, corners)
-    nowhere = np.full((count, 3), np.nan)
-    history = PlyFrictionHistory(
-        np.full(count, -1), nowhere, np.zeros(count), np.zeros(count), 0.0, sides
-    )
-    return block, state, history
+    return block, state, clear_history(then, corners)
 
 
 @pytest.mark.parametrize(
