@@ -5,6 +5,9 @@ ply), and Static's accepted histories of them."""
 
 from __future__ import annotations
 
+import dataclasses
+from typing import Any
+
 import numpy as np
 import pytest
 
@@ -162,3 +165,20 @@ def folded_plies(gap: float, uy: float, uz: float, dip: float, unknown: bool = T
     at = np.flatnonzero(np.all(np.isclose(points[lower.triangles], [2.0, 2.0, -dip]), axis=2))
     edge = corners.reshape(-1, 3)[at[0]]
     return built(edge - faces[low] + np.array([0.0, 0.0, gap]) + [0.0, 2.3 - edge[1], 0.0])
+
+
+def stepped_history(model: Model, way: np.ndarray, steps: int) -> tuple[PlyContactBlock, Any]:
+    """(the ply contact's block, its history) accepted over ``steps`` states of ``model``'s
+    upper ply carried by ``way`` (3,) mm from the initial state in equal steps (the explicit
+    solver's and Static's acceptance alike), by the passes ``ply_projection.COMPILED``
+    selects."""
+    compiled = model.compile()
+    block = compiled.interactions[0]
+    state = compiled.initial_state()
+    upper = np.unique(block.above)
+    history = block.initial_history()
+    for step in range(1, steps + 1):
+        positions = state.positions.copy()
+        positions[upper] += way * step / steps
+        history = block.update_history(dataclasses.replace(state, positions=positions), history)
+    return block, history

@@ -30,7 +30,7 @@ from elements import ply_projection
 from elements.ply_friction import PlyFrictionHistory
 from femcore import Model
 from tests.explicit_runs import run_explicitly
-from tests.ply_pair import MU, moved_plies, static_histories
+from tests.ply_pair import MU, moved_plies, static_histories, stepped_history
 
 T_STICK, T_LIFT = 0.2, 0.713  # the shares of the run where the points start sliding and lift
 VZ = 0.1  # mm up over the run
@@ -85,16 +85,7 @@ def stepped(compiled: bool, steps: int, surface: str = "flat") -> PlyFrictionHis
     numpy reference (the explicit solver's and Static's acceptance alike), on ``surface``
     faces."""
     ply_projection.COMPILED = compiled
-    compiled_model = lifted_plies(surface).compile()
-    block = compiled_model.interactions[0]
-    state = compiled_model.initial_state()
-    upper = np.unique(block.above)
-    history = block.initial_history()
-    for step in range(1, steps + 1):
-        positions = state.positions.copy()
-        positions[upper] += np.array([VX, 0.0, VZ]) * step / steps
-        history = block.update_history(dataclasses.replace(state, positions=positions), history)
-    return history
+    return stepped_history(lifted_plies(surface), np.array([VX, 0.0, VZ]), steps)[1]
 
 
 @pytest.mark.parametrize("steps", [40, 5])

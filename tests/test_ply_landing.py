@@ -40,7 +40,7 @@ from femcore import Model
 from femcore.interaction_checks import check_tangent
 from solvers import Static
 from tests.explicit_runs import run_explicitly
-from tests.ply_pair import MU, capped_plies, moved_plies, static_histories
+from tests.ply_pair import MU, capped_plies, moved_plies, static_histories, stepped_history
 from tests.test_interaction_conformance import plies
 from tests.test_ply_curved_friction import _anchored, _compiled_and_reference
 
@@ -100,15 +100,7 @@ def test_the_accepted_histories_count_the_slip_after_the_touch(
     Static's acceptance alike), by the compiled passes and the numpy reference, and on the
     curved faces (a flat ply's patches are its facets: the rule is exact there too)."""
     monkeypatch.setattr(ply_projection, "COMPILED", compiled)
-    compiled_model = carried_plies(surface).compile()
-    block = compiled_model.interactions[0]
-    state = compiled_model.initial_state()
-    upper = np.unique(block.above)
-    history = block.initial_history()
-    for step in range(1, steps + 1):
-        positions = state.positions.copy()
-        positions[upper] += np.array([VX, 0.0, -VZ]) * step / steps
-        history = block.update_history(dataclasses.replace(state, positions=positions), history)
+    block, history = stepped_history(carried_plies(surface), np.array([VX, 0.0, -VZ]), steps)
     dissipation, slip = coulomb(block)
     np.testing.assert_allclose(history.slip, slip, rtol=1e-12)
     assert history.dissipated == pytest.approx(dissipation, rel=1e-12)
@@ -200,11 +192,10 @@ def test_the_curved_faces_tangent_at_a_landing_state_carries_the_anchors_motion(
     assert check_tangent(block, state, history, step=1e-7)
 
 
-def test_the_curved_landing_anchors_motion_compiled_is_the_numpy_references():
-    """The compiled local loads (elements/ply_curved_friction_kernels.py) against
-    ``local_loads_numpy`` at every complex step of the landing points' data: within 1e-12 of
-    the largest load and derivative; the real loads are those of the anchors given, to the
-    bit (the landing's motion enters the imaginary parts only)."""
+def curved_landing_points():
+    """(block, data, arguments): ``curved_landing_plies``' frictional points (all landing)
+    as the curved friction's tangent takes them (``ply_curved_friction._frictional_points``:
+    their local data (t, 54) and the local loads' other arguments)."""
     block, state, history = curved_landing_plies(smoothing=0.05)
     facing = block.facing(state)
     found = ply_landing.landing(block, state, history, facing)
@@ -214,6 +205,15 @@ def test_the_curved_landing_anchors_motion_compiled_is_the_numpy_references():
     _, _, _, _, data, arguments = ply_curved_friction._frictional_points(
         block, state, sliding, landed, facing, surface, found
     )
+    return block, data, arguments
+
+
+def test_the_curved_landing_anchors_motion_compiled_is_the_numpy_references():
+    """The compiled local loads (elements/ply_curved_friction_kernels.py) against
+    ``local_loads_numpy`` at every complex step of the landing points' data: within 1e-12 of
+    the largest load and derivative; the real loads are those of the anchors given, to the
+    bit (the landing's motion enters the imaginary parts only)."""
+    block, data, arguments = curved_landing_points()
     assert arguments[-2].all()  # every frictional point lands
     held = arguments[:-2] + (np.zeros_like(arguments[-2]), arguments[-1])
     moving = _compiled_and_reference(block, data, arguments)
@@ -235,15 +235,7 @@ def test_the_curved_tangents_landing_anchor_is_the_landing_rules_anchor():
     take (``ply_landing.landed``, elements/ply_landing.py), to 1e-12 mm: one rule, so a
     change to the landing rule that leaves the tangent's copy behind fails here, not only as
     a tangent off its differences."""
-    block, state, history = curved_landing_plies(smoothing=0.05)
-    facing = block.facing(state)
-    found = ply_landing.landing(block, state, history, facing)
-    landed = ply_landing.landed(block, state, history, facing, found)
-    sliding = block.friction_state(state, landed, facing)
-    surface = ply_curved_tangent.surface_normals(block, state)
-    _, _, _, _, data, arguments = ply_curved_friction._frictional_points(
-        block, state, sliding, landed, facing, surface, found
-    )
+    _, data, arguments = curved_landing_points()
     sigma, anchor, start, *_, landing, then = arguments
     assert landing.all() and len(landing) >= 40
     z, upper_normals, y, n, _, _ = ply_curved_friction._split(data)
