@@ -446,7 +446,8 @@ def friction_tangent(
     moving = None  # a landing anchor's dr/dz beyond -Lambda_k I on y_ak
     if found is not None:
         lands = np.searchsorted(on, found.rows)  # (every landing point touches: in ``on``)
-        motion = found.anchor_motion(gap_gradient[lands, :4])  # (r, 3, 4, 3)
+        searched = None if facing.hessian is None else facing.hessian[found.rows]
+        motion = found.anchor_motion(gap_gradient[lands, :4], searched)  # (r, 3, 4, 3)
         _, y = block._faces(state)
         moving = np.zeros((t, 3, 9, 3))
         moving[lands, :, :4] = -np.einsum("rki,rkzb->rizb", y[facing.triangle[found.rows]], motion)

@@ -33,18 +33,20 @@ the fade's w starts from 0 there). So g_0 = max(m . (p_0 - q_0), 0), q_0 = sum_k
 the same point of the same edge or vertex on T's corners then (lambda its barycentric
 coordinates now), pen = max(-m . (p - q), 0), theta = g_0 / (g_0 + pen); the crossing's place is
 interpolated between the places then and now on T's planes, heights included (p = sum Lambda_k
-y_k + h n), and moved along nu onto T's plane (where the anchor is kept; along n where nu lies
-within 6 deg of T's plane, |nu . n| <= 0.1, as the accepted history re-expresses a moved anchor;
-there the crossing's height over T's plane, at most |h|, counts as slip across nu: a known
-limit, a jump of about |h| at |nu . n| = 0.1, behind the hemisphere run's 6 of 30233 edge
-landings slipping against their way), so that the slip, measured across nu as the friction
-measures it, is the way's part across nu after the crossing. Exact for a way straight relative
-to the lower face that crosses the edge's line (the gap linear over the step) with T's corners
-moved affinely; elsewhere a rule. Before it such a point did not land (anchored at its
-projection once the step was accepted): with g_0 T's plane's against a penetration to the edge,
-the hemisphere-plies Mindlin [0/90] run's slipped up to 0.090 mm against ways of at most 0.029
-mm (docs/theory.md §9.3a). Its anchor is held fixed by the tangent over the landing step (dtheta
-and the anchor's motion 0 on its rows).
+y_k + h n, the crossing's height rise = h_0 + theta (h - h_0)), and moved along nu onto T's
+plane, where the anchor is kept: by rise / t along nu, t = nu . n, so that the slip, measured
+across nu as the friction measures it, is the way's part across nu after the crossing. Where nu
+lies within TILT = 0.1 of T's plane (|t| <= 0.1, 6 deg; the move along nu grows as 1 / t) it
+moves rise t / TILT^2 along nu and drops the rest, (1 - t^2 / TILT^2) rise, along n, which counts
+as slip across nu: continuous across TILT, at t = 0 the whole height (there no anchor on T's
+plane is off the crossing along nu), where before the whole height dropped along n below TILT
+(a jump of about |rise| there). Exact for a way straight relative to the lower face that
+crosses the edge's line (the gap linear over the step) with T's corners moved affinely;
+elsewhere a rule. Before it such a point did not land (anchored at its projection once the step
+was accepted): with g_0 T's plane's against a penetration to the edge, the hemisphere-plies
+Mindlin [0/90] run's slipped up to 0.090 mm against ways of at most 0.029 mm (docs/theory.md
+§9.3a). Its anchor moves with the state in the tangent, through p, T's corners and the closest
+point's lambda and nu (the gap's Hessian): elements/ply_edge_landing.py ``crossing_motion``.
 
 The anchor moves with the state: dLambda_a/dz = theta dLambda/dz + (Lambda - Lambda_0)
 dtheta/dz over z = (p, y_1, y_2, y_3) (T's corners now), with dtheta/dz = g_0 / (g_0 +
@@ -67,6 +69,7 @@ from typing import TYPE_CHECKING, overload
 
 import numpy as np
 
+from elements.ply_edge_landing import Crossing, crossing_motion
 from elements.ply_projection import triangle_frames
 from elements.ply_sides import TOUCHING
 
@@ -76,7 +79,19 @@ if TYPE_CHECKING:
     from elements.ply_projection import Facing
     from femcore.state import State
 
-__all__ = ["Landing", "edge_crossing", "landed", "landing", "landing_rows", "plane_places"]
+__all__ = [
+    "TILT",
+    "Landing",
+    "edge_crossing",
+    "landed",
+    "landing",
+    "landing_rows",
+    "plane_places",
+]
+
+#: |nu . n| below which an edge point's anchor is not moved along nu alone onto T's plane
+#: (``edge_crossing``: a share (nu . n)^2 / TILT^2 of the height along nu, the rest along n).
+TILT = 0.1
 
 
 @dataclass(frozen=True)
@@ -104,6 +119,9 @@ class Landing:
     place : (r, 3) float or None
         Their anchors' barycentric places Lambda_a on T (the other rows' not used); None:
         no such row.
+    crossing : Crossing or None
+        What their places were made from (elements/ply_edge_landing.py), for their motion;
+        None: no such row.
     """
 
     rows: np.ndarray
@@ -116,10 +134,15 @@ class Landing:
     height: np.ndarray
     edge: np.ndarray | None = None
     place: np.ndarray | None = None
+    crossing: Crossing | None = None
 
-    def anchor_motion(self, gap_gradient: np.ndarray) -> np.ndarray:
+    def anchor_motion(
+        self, gap_gradient: np.ndarray, hessian: np.ndarray | None = None
+    ) -> np.ndarray:
         """(r, 3, 4, 3) dLambda_a,k/dz over z = (p, y_1, y_2, y_3), 1/mm, given dg/dz
-        ``gap_gradient`` (r, 4, 3) of the rows."""
+        ``gap_gradient`` (r, 4, 3) of the rows and, where a row's gap is to an edge or a
+        vertex, its Hessian d2g/dz2 ``hessian`` (r, 4, 3, 4, 3), 1/mm (``Facing.hessian``'s
+        rows; elements/ply_edge_landing.py)."""
         grad, lam, n, h = self.gradients, self.weights, self.normal, self.height
         motion = np.zeros((len(self.rows), 3, 4, 3))
         motion[:, :, 0] = grad
@@ -131,8 +154,10 @@ class Landing:
             )
         motion *= self.theta[:, None, None, None]
         motion += (self.rate * self.dtheta[:, None])[:, :, None, None] * gap_gradient[:, None]
-        if self.edge is not None:  # an edge gap's anchor held fixed over the step (docstring)
-            motion[self.edge] = 0.0
+        if self.edge is not None and self.crossing is not None:  # ``edge_crossing``'s anchor
+            if hessian is None:
+                raise ValueError("an edge point's landing anchor moves by its gap's Hessian")
+            motion[self.edge] = crossing_motion(self.crossing, hessian[self.edge], TILT)
         return motion
 
 
@@ -201,7 +226,7 @@ def landing(
             plane_places(now, _onto_plane(now, p, along))[0]
             - plane_places(before, _onto_plane(before, then, along))[0]
         )
-    edge, place = None, None
+    edge, place, crossing = None, None, None
     if facing.on_edge is not None and facing.on_edge[rows].any():
         # gaps to an edge or a vertex: theta and the anchor by that gap (docstring)
         edge = facing.on_edge[rows]
@@ -210,15 +235,22 @@ def landing(
         # the gap's zero through q: normal to nu, or T's plane where T's normal signs the gap
         # (beside a growth's edge, at an outline vertex, on a cut: docstring)
         zero = facing.normal[rows[at]]
+        plane = np.zeros(len(at), dtype=bool)
         if facing.on_growth is not None and facing.joined is not None:
             plane = facing.on_growth[rows[at]] & ~facing.joined[rows[at]]
             zero = np.where(plane[:, None], normal[at], zero)
-        theta[at], place[at] = edge_crossing(
+        crossing = Crossing(
             before[at], now[at], then[at], p[at], facing.weights[rows[at]],
-            facing.normal[rows[at]], zero,
+            facing.normal[rows[at]], plane,
         )  # fmt: skip
-        dtheta[at] = 0.0
-    return Landing(rows, rate, theta, dtheta, weights, gradients, normal, height, edge, place)
+        theta[at], place[at] = edge_crossing(
+            crossing.before, crossing.now, crossing.then, crossing.point, crossing.feature,
+            crossing.normal, zero,
+        )  # fmt: skip
+        dtheta[at] = 0.0  # (their motion: ``crossing_motion``)
+    return Landing(
+        rows, rate, theta, dtheta, weights, gradients, normal, height, edge, place, crossing
+    )
 
 
 def edge_crossing(
@@ -266,8 +298,12 @@ def edge_crossing(
     rise = old_height + theta * (height - old_height)  # the crossing's height over T's plane
     plane, _, gradients = triangle_frames(now)
     tilt = np.einsum("ri,ri->r", plane, normal)
-    steep = np.abs(tilt) > 0.1
-    along = np.where(steep, rise / np.where(steep, tilt, 1.0), 0.0)
+    # onto T's plane along nu (rise / tilt: the anchor off the crossing along nu alone); where
+    # nu lies within TILT of the plane a share tilt^2 / TILT^2 of that, the rest of the height
+    # dropped along n (counted as slip across nu: (1 - tilt^2 / TILT^2) |rise| at most),
+    # continuous across TILT (module docstring)
+    steep = np.abs(tilt) > TILT
+    along = np.where(steep, rise / np.where(steep, tilt, 1.0), rise * tilt / TILT**2)
     place -= along[:, None] * np.einsum("rki,ri->rk", gradients, normal)
     return theta, place
 

@@ -124,7 +124,9 @@ def static_histories(
     return committed
 
 
-def folded_plies(gap: float, uy: float, uz: float, dip: float, unknown: bool = True) -> Model:
+def folded_plies(
+    gap: float, uy: float, uz: float, dip: float, unknown: bool = True, free: bool = False
+) -> Model:
     """A lower ply (6 x 6 mm in 3 x 3 cells, held but a far corner free along z) whose nodes
     on x = 2 lie ``dip`` mm below the rest (negative: above): a valley (a ridge) whose two
     faces meet on the mesh's edges along that line, their slopes dip / 2; and an upper ply of
@@ -137,7 +139,9 @@ def folded_plies(gap: float, uy: float, uz: float, dip: float, unknown: bool = T
     and below a ridge's, and passes through the line where its gap is zero. The contact: mu
     MU, penalty PENALTY, no smoothing. ``unknown``: the far corner free (Static's unknown; the
     explicit step at the runs' pace is unstable there, and the fold's round-off forces, 1e-38
-    N, seed it: held for an explicit run)."""
+    N, seed it: held for an explicit run). ``free``: the carried point's node free in
+    translation, the two others carried: it follows them through the shell, and where it
+    touches, its place is Static's to find."""
     lower = Mesh.rectangle(6.0, 6.0, nx=3, ny=3)
     points = lower.points.copy()
     points[np.isclose(points[:, 0], 2.0), 2] -= dip
@@ -153,7 +157,8 @@ def folded_plies(gap: float, uy: float, uz: float, dip: float, unknown: bool = T
         if unknown:
             model.fix([count - 1], ("ux", "uy", "alpha", "beta"))
         model.fix(np.arange(count, count + 3), ("alpha", "beta"))
-        model.displace(np.arange(count, count + 3), ux=0.0, uy=uy, uz=uz, amplitude="linear")
+        carried = np.arange(count + 1 if free else count, count + 3)
+        model.displace(carried, ux=0.0, uy=uy, uz=uz, amplitude="linear")
         return model
 
     # the low node's contact point and the valley's edge line (from its end at (2, 2)), on
