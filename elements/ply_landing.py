@@ -48,8 +48,8 @@ Mindlin [0/90] run's slipped up to 0.090 mm against ways of at most 0.029 mm (do
 §9.3a). Its anchor moves with the state in the tangent, through p, T's corners and the closest
 point's lambda and nu (the gap's Hessian): elements/ply_edge_landing.py ``crossing_motion``.
 
-The anchor moves with the state: dLambda_a/dz = theta dLambda/dz + (Lambda - Lambda_0)
-dtheta/dz over z = (p, y_1, y_2, y_3) (T's corners now), with dtheta/dz = g_0 / (g_0 +
+A face point's anchor moves with the state: dLambda_a/dz = theta dLambda/dz + (Lambda -
+Lambda_0) dtheta/dz over z = (p, y_1, y_2, y_3) (T's corners now), with dtheta/dz = g_0 / (g_0 +
 pen)^2 dg/dz (where pen > 0) and, on T's plane (unit normal n, barycentric gradients grad
 phi_k, p = sum Lambda_k y_k + h n), dLambda_k/dp = grad phi_k^T and dLambda_k/dy_m = -Lambda_m
 grad phi_k^T + h (grad phi_k . grad phi_m) n^T. The flat faces' tangent carries it
