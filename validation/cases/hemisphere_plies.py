@@ -51,7 +51,10 @@ N; its reported measures move (largest slip 0.60-8.48 mm, corners 11.0-13.1 mm, 
 136.0-141.2 N: the run snaps late at that pace; slowed x4 the largest slip 0.56-0.60 mm,
 the corners 13.0-13.2 mm over six such runs, x8 within them, tests/test_hemisphere_plies_pace.py;
 validation/studies/hemisphere_plies_pace_scatter.py): the run is slowed x4 since, its reported
-measures the quasi-static answer's, not one of chance, at twice the x2 run's CPU.
+measures the quasi-static answer's, not one of chance, at twice the x2 run's CPU. These runs
+are the landing rule's with its step fallback near T's plane; with the continuous one (docs/
+theory.md §9.3a, ``ply_landing.TILT``) the x4 run at mu ends at 0.607 mm, rms 0.285 mm (0.568,
+0.274 before), its corners and edges within 0.05 mm, and the pace test passes.
 Not time-scaled: the fibrous [0/90]
 stroke in 0.067 s (x1.5) put KE / W above 0.1 over 13.7 % of the judged run (peak 0.28) and
 fails the quasi-static check, though its compared numbers hardly moved
