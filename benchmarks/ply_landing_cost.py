@@ -4,19 +4,19 @@ ply_landing_kernels.py) and by its numpy reference, on the report's two-ply hemi
 (validation/studies/hemisphere_plies_run.py: 8 cells, 20 N; the Mindlin [0/90] run by
 default, whose flange points rest near zero gap and land and leave at almost every step).
 
-* per call: the landings of the first ``--share`` of the run's stroke captured (block,
+* per call: the landings of the first ``--capture`` of the run's stroke captured (block,
   state, history, facing, as ``ply_landing_kept.kept_landing`` asks), then each found by the
   numpy reference and by the kernel, alternating, best of ``--repeats`` rounds, us a call;
   whether every landing is the same bits both ways;
-* the run: that share of the stroke solved in this process with the numpy landing and with
+* the run: ``--share`` of the stroke solved in this process with the numpy landing and with
   the compiled one, alternating, best of ``--repeats``: CPU, ms a step, the landing's own CPU
   (a timer round ``ply_landing_kernels.landing``) and whether the frames' positions and
   directors and the energy and tool records (the history file) are the same bytes.
 
 One numba thread, CPU (``time.process_time``), the machine's load printed.
 
-    python benchmarks/ply_landing_cost.py [--share 0.1] [--repeats 3] [--layup 0/90]
-        [--kinematics mindlin]
+    python benchmarks/ply_landing_cost.py [--share 0.1] [--capture 0.1] [--repeats 3]
+        [--layup 0/90] [--kinematics mindlin]
 
 Measured (one thread, 2 cores shared with other jobs, load 3.1-3.8), the Mindlin [0/90] run
 over a tenth of its stroke (3494 steps): 3507 landings, 2.4 rows a call, every one the same
@@ -95,6 +95,9 @@ def _run(layup: str, kinematics: str, share: float, compiled: bool, capture=None
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--share", type=float, default=0.1, help="of the run's stroke")
+    parser.add_argument(
+        "--capture", type=float, default=0.1, help="of the stroke whose landings are timed"
+    )
     parser.add_argument("--repeats", type=int, default=3)
     parser.add_argument("--layup", default="0/90", choices=sorted(setup.LAYUPS))
     parser.add_argument("--kinematics", default="mindlin", choices=("fibrous", "mindlin"))
@@ -103,7 +106,7 @@ def main() -> None:
     for compiled in (False, True):
         _run(args.layup, args.kinematics, 1 / 200, compiled)
     captured: list = []
-    _run(args.layup, args.kinematics, args.share, True, captured)
+    _run(args.layup, args.kinematics, args.capture, True, captured)
     calls = [call for call in captured if call[0].curved is False]
     # each landing afresh (the keep's answers aside): the numpy reference, then the kernel
     ply_landing_kernels.COMPILED = True
@@ -121,7 +124,7 @@ def main() -> None:
                 find(*call)
             best[name] = min(best[name], (time.process_time() - start) / len(calls) * 1e6)
     print(
-        f"{args.kinematics} [{args.layup}], {args.share:g} of the stroke: {len(calls)} "
+        f"{args.kinematics} [{args.layup}], {args.capture:g} of the stroke: {len(calls)} "
         f"landings ({rows / len(calls):.1f} rows a call), the same bits: {same}; us a call, "
         f"best of {args.repeats}: numpy {best['numpy']:.1f}, compiled {best['compiled']:.1f} "
         f"(load {os.getloadavg()[0]:.1f})"
