@@ -7,8 +7,10 @@ points whose gap is to an edge or a vertex, theta and the anchor's place by that
 
 The numpy reference made some thirty numpy calls and four of ``triangle_frames`` on a few
 rows, at almost every step of a two-ply run whose flange points rest near zero gap and land
-and leave in turn: its fixed cost, 0.77 s of a 6-s run where points land (the landing, the
-largest ply cost left). The kernel does the same IEEE operations in the same order as the
+and leave in turn: its fixed cost, about 220 us a call, 6.8-7.2 s of CPU over the report's
+Mindlin [0/90] run (about 29k landings in 32242 steps), the largest ply cost left; compiled,
+about 40 us a call (the kernel's call and its inputs' types), 0.9-1.3 s
+(benchmarks/ply_landing_cost.py). The kernel does the same IEEE operations in the same order as the
 numpy reference (as elements/ply_departure_kernels.py: the cross products as
 femcore/rotation.py ``cross`` writes them, the norms' and ``np.sum(axis=1)``'s sums from the
 first term, ``einsum("rki,rki->rk")``, ``einsum("ri,ri->r")`` and ``einsum("rki,ri->rk")``
