@@ -24,7 +24,7 @@ from typing import TYPE_CHECKING, overload
 
 import numpy as np
 
-from elements import ply_landing
+from elements import ply_landing, ply_landing_kernels
 
 if TYPE_CHECKING:
     from elements.ply_block import PlyContactBlock
@@ -54,7 +54,8 @@ def kept_landing(
     docstring). Where no point lands (most steps) the answer is the history itself, found by
     ``landing_rows``' few masks: cheaper than the keep's own check, which copies the history's
     bytes (0.03 against 0.46 ms at 60k points)."""
-    if len(ply_landing.landing_rows(block, history, facing)) == 0:
+    rows = ply_landing.landing_rows(block, history, facing)
+    if len(rows) == 0:
         return None, history
     kept = getattr(block, "_landing_at", None)
     if (
@@ -66,7 +67,8 @@ def kept_landing(
         and kept[4] == _bits(history)
     ):
         return kept[5], kept[6]
-    found = ply_landing.landing(block, state, history, facing)
+    # compiled on the flat faces (elements/ply_landing_kernels.py: the same bits)
+    found = ply_landing_kernels.landing(block, state, history, facing, rows)
     # (``landed`` without a landing found would look for one again)
     landed = history if found is None else ply_landing.landed(block, state, history, facing, found)
     # (on the block as its other per-state caches, elements/ply_block.py ``facing``)

@@ -30,6 +30,7 @@ from elements import (
     ply_curved_friction,
     ply_curved_tangent,
     ply_landing,
+    ply_landing_kernels,
     ply_projection,
     ply_surface,
 )
@@ -299,6 +300,7 @@ def test_a_frictionless_contact_never_asks_for_a_landing(monkeypatch):
         raise AssertionError("a frictionless contact asked for a landing")
 
     monkeypatch.setattr(ply_landing, "landing", refused)
+    monkeypatch.setattr(ply_landing_kernels, "landing", refused)
     monkeypatch.setattr(ply_landing, "landed", refused)
     block, state, _ = plies(rule="gauss", smoothing=0.05)
     history = block.initial_history()

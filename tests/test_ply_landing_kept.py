@@ -1,7 +1,8 @@
 """A ply contact's landing points are found once per state and history (elements/
 ply_landing_kept.py): the loads, the energy, the tangent and the accepted history at one state
-from one history share one ``ply_landing.landing``, whose answers are those found afresh at
-each ask; another history, or the same one edited in place, is answered afresh."""
+from one history share one landing (``ply_landing.landing``, compiled on the flat faces:
+elements/ply_landing_kernels.py), whose answers are those found afresh at each ask; another
+history, or the same one edited in place, is answered afresh."""
 
 from __future__ import annotations
 
@@ -9,21 +10,23 @@ import dataclasses
 
 import numpy as np
 
-from elements import ply_landing, ply_landing_kept
+from elements import ply_landing_kept, ply_landing_kernels
 from elements.ply_sides import TOUCHING
 from tests.test_ply_landing import landing_plies
 
 
 def counted(monkeypatch) -> list[int]:
-    """``ply_landing.landing`` counted: a list holding the number of its calls."""
+    """The landing the keep asks for (``ply_landing_kernels.landing``: the compiled one on
+    the flat faces, numpy's on the curved ones) counted: a list holding the number of its
+    calls."""
     calls = [0]
-    landing = ply_landing.landing
+    landing = ply_landing_kernels.landing
 
     def counting(*args, **kwargs):
         calls[0] += 1
         return landing(*args, **kwargs)
 
-    monkeypatch.setattr(ply_landing, "landing", counting)
+    monkeypatch.setattr(ply_landing_kernels, "landing", counting)
     return calls
 
 
