@@ -25,15 +25,15 @@ the rows' masks, the outputs' allocations, the inputs' types); the run 7.75 s by
 (2.219 ms a step; the landing 0.90 s of it) against 6.89 s compiled (1.973 ms a step; the
 landing 0.11 s), best of 3 alternating; the frames and the records the same bytes.
 
-The whole Mindlin [0/90] stroke (``--share 1.0 --capture 0.02``, 32242 steps, about 29k
-landings; load 2.9-5.3, alternating, best of 2): the landing 6.80-7.21 s of CPU by numpy
-against 0.91-1.30 s compiled; the runs 57.40 / 60.11 s against 55.45 / 55.56 s (1.780 ->
-1.720 ms a step, the load's spread as large as the cut); the frames and records the same
-bytes. Again (load 2.1-9.1): 220.2 -> 41.2 us a landing; numpy 57.20 s (the landing 6.78 s,
-load 4.1), compiled 52.23 / 56.36 s (0.81 / 0.90 s, load 5.0 / 9.1). The report's case beside the code before (``python -m validation --cases
+The whole Mindlin [0/90] stroke (``--share 1.0 --capture 0.02``, 32242 steps, about 29k landings;
+load 2.9-5.3, alternating, best of 2): the landing 6.80-7.21 s of CPU by numpy against 0.91-1.30 s
+compiled; the runs 57.40 / 60.11 s against 55.45 / 55.56 s (1.780 -> 1.720 ms a step, the load's
+spread as large as the cut); the frames and records the same bytes. Again (load 2.1-9.1): 220.2 ->
+41.2 us a landing; numpy 57.20 s (the landing 6.78 s, load 4.1), compiled 52.23 / 56.36 s (0.81 /
+0.90 s, load 5.0 / 9.1). The report's case beside the code before (``python -m validation --cases
 hemisphere-plies --jobs 1``, each tree from ``git archive``, the two at once, load 3-5):
-results.json the same in all its 333 numbers but the times, the three PNG files byte for
-byte, 24 of 24 checks; the Mindlin [0/90] run's CPU 63.2 -> 54.1 s (one pair).
+results.json the same in all its 333 numbers but the times, the three PNG files byte for byte, 24 of
+24 checks; the Mindlin [0/90] run's CPU 63.2 -> 54.1 s (one pair).
 """
 
 from __future__ import annotations

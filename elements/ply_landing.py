@@ -285,7 +285,8 @@ def edge_crossing(
     theta = g_0 / (g_0 + pen), g_0 = max(m . (p_0 - q_0), 0), q_0 = sum_k lambda_k y_0,k the
     same point of T then, pen = max(-m . (p - q), 0) (1 where both vanish); and Lambda_a, the
     crossing's place (the places and heights then and now on T's planes, interpolated by
-    theta) moved along nu onto T's plane (along T's normal where |nu . n| <= 0.1).
+    theta) moved along nu onto T's plane (where |nu . n| <= TILT a share (nu . n)^2 / TILT^2 of
+    that move, the rest of the height along T's normal).
     """
     q0 = np.einsum("rk,rki->ri", feature, before)
     q = np.einsum("rk,rki->ri", feature, now)

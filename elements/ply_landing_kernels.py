@@ -29,6 +29,7 @@ import numpy as np
 from elements import ply_landing
 from elements.jit import jit_lanes, prange
 from elements.kernel_inputs import read_only, writable
+from elements.ply_edge_landing import Crossing
 
 if TYPE_CHECKING:
     from elements.ply_block import PlyContactBlock
@@ -56,6 +57,7 @@ def _landing(
     nu,
     on_edge,
     plane_zero,
+    tilt_floor,
     rate,
     theta,
     dtheta,
@@ -75,7 +77,9 @@ def _landing(
     then and now, mm; ``gap`` (P,) their gaps now, mm; ``feature`` (P, 3) the barycentric
     coordinates of their closest points now; ``nu`` (P, 3) their gaps' normals now;
     ``on_edge`` (P,) bool their gaps to an edge or a vertex (empty: none); ``plane_zero``
-    (P,) bool their gaps' zero T's plane (on a growth and not joined; empty: none)."""
+    (P,) bool their gaps' zero T's plane (on a growth and not joined; empty: none);
+    ``tilt_floor`` ``ply_landing.TILT`` (an argument, not a global: a cached build would keep
+    the value it was built with)."""
     for j in prange(rows.shape[0]):
         i = rows[j]
         t = triangle[i]
@@ -185,7 +189,11 @@ def _landing(
         rise = height_then + theta_e * (height_plane - height_then)
         v0, v1, v2 = nu[i, 0], nu[i, 1], nu[i, 2]
         tilt = (normal[j, 0] * v0 + normal[j, 2] * v2) + normal[j, 1] * v1
-        along = rise / tilt if abs(tilt) > 0.1 else 0.0
+        # numpy's where(steep, rise / tilt, rise * tilt / TILT**2)
+        if abs(tilt) > tilt_floor:
+            along = rise / tilt
+        else:
+            along = rise * tilt / (tilt_floor**2)
         olds = (old0, old1, old2)
         for k in range(3):
             across = (gradients[j, k, 0] * v0 + gradients[j, k, 2] * v2) + gradients[j, k, 1] * v1
@@ -239,6 +247,7 @@ def landing(
         read_only(facing.normal),
         read_only(on_edge, np.bool_),
         read_only(plane_zero, np.bool_),
+        ply_landing.TILT,
         rate,
         theta,
         dtheta,
@@ -251,6 +260,14 @@ def landing(
     )
     if not edge.any():
         return ply_landing.Landing(rows, rate, theta, dtheta, weights, gradients, normal, height)
+    # what the tangent moves the edge rows' anchors by (``ply_landing.landing``'s Crossing)
+    at = rows[edge]
+    triangle = facing.triangle[at]
+    plane = np.zeros(len(at), dtype=bool) if len(plane_zero) == 0 else plane_zero[at]
+    crossing = Crossing(
+        sides.corners[triangle], y[triangle], sides.faces[at], facing.face[at],
+        facing.weights[at], facing.normal[at], plane,
+    )  # fmt: skip
     return ply_landing.Landing(
-        rows, rate, theta, dtheta, weights, gradients, normal, height, edge, place
+        rows, rate, theta, dtheta, weights, gradients, normal, height, edge, place, crossing
     )

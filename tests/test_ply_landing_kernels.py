@@ -96,6 +96,13 @@ def same_bits(found, expected) -> None:
         if a is not None:
             assert a.dtype == b.dtype and a.shape == b.shape, name
             assert a.tobytes() == b.tobytes(), name
+    # what the tangent moves an edge row's anchor by (ply_edge_landing.crossing_motion)
+    assert (found.crossing is None) == (expected.crossing is None), "crossing"
+    if found.crossing is not None:
+        for name in ("before", "now", "then", "point", "feature", "normal", "plane"):
+            a, b = getattr(found.crossing, name), getattr(expected.crossing, name)
+            assert a.dtype == b.dtype and a.shape == b.shape, name
+            assert a.tobytes() == b.tobytes(), f"crossing.{name}"
 
 
 @pytest.mark.parametrize("count", [1, 2, 3, 8, 40, 600])
