@@ -55,6 +55,7 @@ import numpy as np
 from elements import (
     ply_departure,
     ply_edge_couple_kernels,
+    ply_landing,
     ply_landing_kept,
     ply_projection,
     ply_surface,
@@ -751,7 +752,12 @@ def updated_history(
     gap = np.where(np.isfinite(facing.gap), facing.gap, 0.0)
     w = target + gap[:, None] * facing.normal
     tilt = np.sum(plane * facing.normal, axis=1)
-    along = np.where(tilt > 0.1, np.sum(plane * w, axis=1) / np.where(tilt > 0.1, tilt, 1.0), 0.0)
+    # where n lies within TILT of the plane a share tilt^2 / TILT^2 of that move, the rest of
+    # the height along the plane's normal: the landing's rule (ply_landing.edge_crossing), so
+    # that an anchor the landing placed is re-expressed where it is, continuous across TILT
+    steep = np.abs(tilt) > ply_landing.TILT
+    rise = np.sum(plane * w, axis=1)
+    along = np.where(steep, rise / np.where(steep, tilt, 1.0), rise * tilt / ply_landing.TILT**2)
     w = w - along[:, None] * facing.normal
     moved = facing.weights + np.einsum("pki,pi->pk", facing.gradients, w)
     if block.curved:  # the moved anchor projected on the curved face, where it is measured

@@ -35,7 +35,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from elements import ply_departure, ply_departure_kernels, ply_friction
+from elements import ply_departure, ply_departure_kernels, ply_friction, ply_landing
 from elements.jit import jit_lanes, prange
 from elements.kept_bits import same_bits
 from elements.kernel_inputs import read_only, writable
@@ -248,6 +248,7 @@ def _moved(
     normal,
     y,
     friction,
+    tilt_floor,
     slip,
     stuck,
     sliding,
@@ -266,7 +267,8 @@ def _moved(
     """``ply_friction.updated_history``'s arrays, written into triangle (P,) int, anchor (P, 3),
     slipped (P,) mm and dissipation (P,), N mm (each point's mu N_mid times its slip, which
     numpy sums): from the facing's touching flags, triangles, weights (P, 3), gradients (P, 3,
-    3), gaps and normals (P, 3), the lower corners y (m, 3, 3), mu ``friction``, the return
+    3), gaps and normals (P, 3), the lower corners y (m, 3, 3), mu ``friction``,
+    ``tilt_floor`` (ply_landing.TILT: an argument, so that no cached build keeps it), the return
     mapping's slip, offset (P, 3), stuck, sliding, pressing and spring (P,), and the last
     history's triangle, anchor, slip and pressing."""
     for i in prange(gap.shape[0]):
@@ -293,10 +295,12 @@ def _moved(
         g = gap[i]
         w0, w1, w2 = t0 + g * n0, t1 + g * n1, t2 + g * n2
         tilt = (m0 * n0 + m1 * n1) + m2 * n2
-        if tilt > 0.1:
-            along = ((m0 * w0 + m1 * w1) + m2 * w2) / tilt
+        # numpy's where(|tilt| > TILT, rise / tilt, rise * tilt / TILT**2)
+        rise = (m0 * w0 + m1 * w1) + m2 * w2
+        if abs(tilt) > tilt_floor:
+            along = rise / tilt
         else:
-            along = 0.0
+            along = rise * tilt / (tilt_floor**2)
         w0, w1, w2 = w0 - along * n0, w1 - along * n1, w2 - along * n2
         if stuck[i]:
             triangle[i] = last_triangle[i]
@@ -367,6 +371,7 @@ def updated_history(
         np.ascontiguousarray(facing.normal, dtype=float),
         np.ascontiguousarray(y, dtype=float),
         float(block.friction),
+        ply_landing.TILT,
         sliding.slip,
         sliding.stuck,
         sliding.sliding,

@@ -19,7 +19,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from elements import ply_departure, ply_departure_kernels, ply_friction_kernels
+from elements import ply_departure, ply_departure_kernels, ply_friction_kernels, ply_landing
 from elements.jit import lanes, plain_part
 from elements.kernel_inputs import read_only, writable
 from elements.ply_friction import Sliding
@@ -46,13 +46,14 @@ def _history(
     mapped_triangle, spring, lift, stored, triangle, anchor, slipped, dissipation,
     next_force, next_slip, next_stuck, next_sliding, next_pressing, next_offset,
     next_triangle, next_spring, next_lift, next_stored, leaving, before, then, aside, way,
+    tilt_floor,
 ):  # fmt: skip
     """The mapping from the last history (where ``fresh``; else its arrays given), the new
     history's triangle, anchor, slipped and dissipation with the departure's records of the
     points ``leaving`` (elements/ply_departure_kernels.py; the lower corners ``before`` and
     the points ``then`` at the last accepted state, ``aside`` those beside a growth's edge,
-    ``way`` their slips), then the mapping from them (the ``next_`` arrays), each written in
-    place (``history_pass``)."""
+    ``way`` their slips; ``tilt_floor`` ply_landing.TILT), then the mapping from them (the
+    ``next_`` arrays), each written in place (``history_pass``)."""
     if fresh:
         _mapping_here(
             touching, gap, stiffness, smoothing, fade, bounded, normal_law, potential,
@@ -61,9 +62,10 @@ def _history(
             np.int64(1),
         )  # fmt: skip
     _moved_here(
-        touching, facing_triangle, facing_weights, gradients, gap, normal, y, friction, slip,
-        stuck, sliding, pressing, offset, spring, last_triangle, last_anchor, last_slip,
-        last_pressing, triangle, anchor, slipped, dissipation, np.int64(0), np.int64(1),
+        touching, facing_triangle, facing_weights, gradients, gap, normal, y, friction,
+        tilt_floor, slip, stuck, sliding, pressing, offset, spring, last_triangle, last_anchor,
+        last_slip, last_pressing, triangle, anchor, slipped, dissipation, np.int64(0),
+        np.int64(1),
     )  # fmt: skip
     if leaving.shape[0]:
         _departure_here(
@@ -154,7 +156,7 @@ def history_pass(
         fresh, read_only(facing.triangle, np.int64), read_only(facing.weights),
         read_only(facing.gradients), writable(last_slip), writable(last_pressing), *mapped,
         *moved, *following, writable(leaving, np.int64), read_only(before), read_only(then),
-        writable(aside, np.bool_), np.empty(len(leaving)),
+        writable(aside, np.bool_), np.empty(len(leaving)), ply_landing.TILT,
     )  # fmt: skip
     sliding = Sliding(*mapped) if kept is None else kept
     return sliding, moved, Sliding(*following)
