@@ -290,9 +290,10 @@ rising to 6 as other jobs started: 13 min 2 s wall, 837 s of user + system CPU):
   margin 19.8 / 3.3); the largest warm the ply penalty's run 14.8, the forming blank at
   the default safety 8.4, the rotary-scaling cantilever 6.6 s.
 
-Without the pace test a run is about 690 s of CPU, some 5.8 minutes on 2 cores: under 5
-minutes needs the pace test out of the README's command (or its two runs a lot faster) and
-about 80 s more from the rest, which is spread over thousands of items and the kernels'
+Without the pace test a run is about 670-690 s of CPU, some 5.9-6.1 minutes on 2 cores at
+CI140's use of them (857 s of CPU in 452 s of wall: 95 %): under 5 minutes (about 570 s of
+CPU) needs the pace test out of the README's command (or its two runs a lot faster) and
+about 110 s more from the rest, which is spread over thousands of items and the kernels'
 first builds.
 
 Run: python benchmarks/suite_item_cpu.py tests/test_x.py::test_y ... [--against CHECKOUT]
