@@ -294,7 +294,11 @@ Without the pace test a run is about 670-690 s of CPU, some 5.9-6.1 minutes on 2
 CI140's use of them (857 s of CPU in 452 s of wall: 95 %): under 5 minutes (about 570 s of
 CPU) needs the pace test out of the README's command (or its two runs a lot faster) and
 about 110 s more from the rest, which is spread over thousands of items and the kernels'
-first builds.
+first builds. Run so (21f50c6, a fresh clone and cache, ``python -m pytest --deselect`` the
+pace test; load 2.3 rising to 10.4 with other jobs, then 2.7): 3122 passed in 17 min 15 s of
+wall, 754.8 s of user + system CPU; at that load the CPU of the same work rises too (the
+clusters' and the report's idle ticks over a longer wall, two cores shared by a dozen
+processes), so the 82 s below the run above understate the pace test's 165 s.
 
 Run: python benchmarks/suite_item_cpu.py tests/test_x.py::test_y ... [--against CHECKOUT]
 """
