@@ -276,12 +276,10 @@ rising to 6 as other jobs started: 13 min 2 s wall, 837 s of user + system CPU):
   five packages 28.3 of 31.3 s of per-module time (elements/ 20.9 s, mindlin_fabric.py the
   largest at 1.3 s), the installed packages and the standard library about 2.5 s (numba 0.7,
   distributed 0.7, numpy 0.3, matplotlib 0.2, rich 0.2, dask 0.1): not following them would
-  save at most that and
-  leave the calls into them unchecked. mypy 2.4's native parser is already its default; its
-  worker processes (``-n 2``, from an empty cache, once each, one after the other, load
-  5.3-5.8) 26.7 s
-  of user + system CPU against 26.6 with ``-n 0`` (40.9 against 40.2 s of wall): nothing to
-  cut in the configuration;
+  save at most that and leave the calls into them unchecked. mypy 2.4's native parser is
+  already its default; its worker processes (``-n 2``, from an empty cache, once each, one
+  after the other, load 5.3-5.8) 26.7 s of user + system CPU against 26.6 with ``-n 0``
+  (40.9 against 40.2 s of wall): nothing to cut in the configuration;
 * the coarse report alone on a warm cache (``--jobs 2``, load 4-5.8): 68.5 s of CPU, 64.2 s
   of it its cases' (hemisphere-plies 23.3, hemisphere-forming 14.5, every other under 3.1),
   its 49 figures and files about 4 s;
