@@ -256,6 +256,50 @@ run it would be the shared cluster's last user (not slow, it sorts after the slo
 wait, tests/conftest.py) and keep that cluster idling through them, at about 4 s of CPU a
 minute for its one worker: about what it saved.
 
+Where a whole run's CPU goes again (main 1620fbc, 3123 tests: CI140 452 s of pytest, 857 s
+of user CPU, the wall following the CPU on its 2 cores). A fresh clone, a fresh numba cache,
+``python benchmarks/suite_signatures.py --run -- python -m pytest --durations=0`` (load 0.2
+rising to 6 as other jobs started: 13 min 2 s wall, 837 s of user + system CPU):
+
+* numba compiling 161.5 s (19 %): 477 compilations in 6 processes, 150.6 s of them the
+  project's 270 kernels, spread thin (the largest the curved friction's local loads, real
+  and complex, 5.9 + 7.5 s; the fibrous Hessian's cells 7.6 s; the fabric section's response
+  5.9 s; every other under 3.7 s); the parallel builds 30.2 s, all in the worker that ran
+  the tests marked ``parallel`` (their only callers: they compare those builds' bits). Three
+  second builds (``law_row`` three times, kept: elements/fibrous/level_lanes.py; the complex
+  local loads, the complex-step test's) and six builds again in another process (3.1 s: the
+  supernodal factors compiled for a generic CPU in a subprocess of their own, on purpose);
+* the pace test (tests/test_hemisphere_plies_pace.py, the Mindlin [0/90] run at x4 and x8)
+  about 165 s of one worker's CPU (170 s of wall in CI140, 163 s alone and quiet): a fifth
+  of the run; the only test of its claim, and no other test or the coarse report runs it;
+* mypy from an empty cache 25.5 s of user CPU (load 2.5-3.2). Its ``--timing-stats``: the
+  five packages 28.3 of 31.3 s of per-module time (elements/ 20.9 s, mindlin_fabric.py the
+  largest at 1.3 s), the installed packages and the standard library about 2.5 s (numba 0.7,
+  distributed 0.7, numpy 0.3, matplotlib 0.2, rich 0.2, dask 0.1): not following them would
+  save at most that and leave the calls into them unchecked. mypy 2.4's native parser is
+  already its default; its worker processes (``-n 2``, from an empty cache, once each, one
+  after the other, load 5.3-5.8) 26.7 s of user + system CPU against 26.6 with ``-n 0``
+  (40.9 against 40.2 s of wall): nothing to cut in the configuration;
+* the coarse report alone on a warm cache (``--jobs 2``, load 4-5.8): 68.5 s of CPU, 64.2 s
+  of it its cases' (hemisphere-plies 23.3, hemisphere-forming 14.5, every other under 3.1),
+  its 49 figures and files about 4 s;
+* the 44 slowest items that read no report, run no cluster and are neither the pace test
+  nor mypy (one process, ``-n 0``, the order pytest gives; load 4-5): 214.0 s of CPU cold
+  (a fresh cache), 86.4 s warm: 128 s of compiling, paid by whichever item asks first (the
+  ply penalty's run 53.7 cold against 14.8 warm, the identify test 38.8 / 2.9, the ply
+  margin 19.8 / 3.3); the largest warm the ply penalty's run 14.8, the forming blank at
+  the default safety 8.4, the rotary-scaling cantilever 6.6 s.
+
+Without the pace test a run is about 670-690 s of CPU, some 5.9-6.1 minutes on 2 cores at
+CI140's use of them (857 s of CPU in 452 s of wall: 95 %): under 5 minutes (about 570 s of
+CPU) needs the pace test out of the README's command (or its two runs a lot faster) and
+about 110 s more from the rest, which is spread over thousands of items and the kernels'
+first builds. Run so (21f50c6, a fresh clone and cache, ``python -m pytest --deselect`` the
+pace test; load 2.3 rising to 10.4 with other jobs, then 2.7): 3122 passed in 17 min 15 s of
+wall, 754.8 s of user + system CPU; at that load the CPU of the same work rises too (the
+clusters' and the report's idle ticks over a longer wall, two cores shared by a dozen
+processes), so the 82 s below the run above understate the pace test's 165 s.
+
 Run: python benchmarks/suite_item_cpu.py tests/test_x.py::test_y ... [--against CHECKOUT]
 """
 

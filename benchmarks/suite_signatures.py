@@ -108,6 +108,19 @@ library's own call gives it (elements/kernel_inputs.py ``read_only``, ``writable
 costs, benchmarks/kernel_input_types.py). The same tests and tests/test_kernel_input_types.py
 after (load 11 -> 5.7): 123 builds, one a kernel's second (the complex local loads).
 
+A whole run of the suite on a fresh cache (main 1620fbc, a fresh clone, ``--run -- python -m
+pytest``; load 0.2 rising to 6): 252 builds in the cache, 3 a kernel's second or later; 270
+compilations of the project's kernels in 6 processes, 150.6 s of CPU (161.5 s with numba's
+own overloads); 6 a signature compiled again in another process, 3.1 s: the supernodal
+factors built for a generic CPU in a subprocess of their own (tests/test_supernodal.py, on
+purpose). The second builds: the complex local loads (above) and fibrous level_lanes
+``law_row`` three times (``k`` Literal[int] 0, 1, 2 and its rows' offsets literal, 1.03 +
+1.05 + 1.12 s). Tried and not kept: ``law_row`` handed them as int64 values, one build;
+the same bits, but the fibrous force slower, its rows' offsets no longer known where the
+loops are compiled (benchmarks/kernel_pairs.py --ref 1620fbc, 100352 cells, one thread, 10
+rounds, load 4.8: force new / old 1.050, quartiles 1.037-1.062; force and energy 1.066,
+1.059-1.088): 2 s of compiling once against 5 % of every fibrous step.
+
 Run: python benchmarks/suite_signatures.py [FOLDER]
      python benchmarks/suite_signatures.py --log FOLDER
      python benchmarks/suite_signatures.py --run -- python -m pytest tests/test_x.py ...
