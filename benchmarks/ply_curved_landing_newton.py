@@ -39,9 +39,8 @@ import numpy as np
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # run from anywhere, no install
 
 from elements import ply_curved_friction
-from elements.ply_block import PlyContactBlock
 from solvers import Static
-from tests.ply_pair import MU, capped_plies
+from tests.ply_pair import MU, capped_plies, counted_landings
 
 LINES = ((1.0, 8), (3.0, 6))  # mm along x, increments
 DOWN = -0.25  # mm
@@ -59,23 +58,14 @@ def _held_landing(original):
 
 def solve(along: float, increments: int, mu: float, exact: bool):
     """(result, landing points per increment) of Static on ``capped_plies``."""
-    landings: list[int] = []
-    accept = PlyContactBlock.update_history
-
-    def watched(block, state, history):
-        new = accept(block, state, history)
-        landings.append(int(np.sum((history.triangle < 0) & (new.triangle >= 0))))
-        return new
-
     original = ply_curved_friction._frictional_points
-    PlyContactBlock.update_history = watched  # type: ignore[method-assign]
     if not exact:
         ply_curved_friction._frictional_points = _held_landing(original)
     try:
         model = capped_plies(along, DOWN, mu)
-        result = Static(increments=increments, progress=False).solve(model)
+        with counted_landings() as landings:
+            result = Static(increments=increments, progress=False).solve(model)
     finally:
-        PlyContactBlock.update_history = accept  # type: ignore[method-assign]
         ply_curved_friction._frictional_points = original
     return result, landings
 

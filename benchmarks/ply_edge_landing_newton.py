@@ -46,9 +46,8 @@ import numpy as np
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # run from anywhere, no install
 
 from elements import ply_landing
-from elements.ply_block import PlyContactBlock
 from solvers import Static
-from tests.ply_pair import folded_plies
+from tests.ply_pair import counted_landings, folded_plies
 
 G0 = 0.0213  # mm over the edge line at the start (tests/test_ply_edge_crossing.py)
 DOWN = -0.1  # mm over the run
@@ -63,23 +62,14 @@ def _held(crossing, hessian, tilt_floor):
 
 def solve(along: float, increments: int, exact: bool):
     """(result, landing points per increment) of Static on the free folded pair."""
-    landings: list[int] = []
-    accept = PlyContactBlock.update_history
-
-    def watched(block, state, history):
-        new = accept(block, state, history)
-        landings.append(int(np.sum((history.triangle < 0) & (new.triangle >= 0))))
-        return new
-
     original = ply_landing.crossing_motion
-    PlyContactBlock.update_history = watched  # type: ignore[method-assign]
     if not exact:
         ply_landing.crossing_motion = _held
     try:
         model = folded_plies(G0, along, DOWN, DIP, free=True)
-        result = Static(increments=increments, progress=False).solve(model)
+        with counted_landings() as landings:
+            result = Static(increments=increments, progress=False).solve(model)
     finally:
-        PlyContactBlock.update_history = accept  # type: ignore[method-assign]
         ply_landing.crossing_motion = original
     return result, landings
 

@@ -5,7 +5,9 @@ ply), and Static's accepted histories of them."""
 
 from __future__ import annotations
 
+import contextlib
 import dataclasses
+from collections.abc import Iterator
 from typing import Any
 
 import numpy as np
@@ -187,3 +189,23 @@ def stepped_history(model: Model, way: np.ndarray, steps: int) -> tuple[PlyConta
         positions[upper] += way * step / steps
         history = block.update_history(dataclasses.replace(state, positions=positions), history)
     return block, history
+
+
+@contextlib.contextmanager
+def counted_landings() -> Iterator[list[int]]:
+    """A list that gets, at each accepted state while the block is open, the count of ply
+    points anchored there that had no anchor before (the landings): PlyContactBlock's
+    ``update_history`` watched, restored on leaving."""
+    landings: list[int] = []
+    accept = PlyContactBlock.update_history
+
+    def watched(block, state, history):
+        new = accept(block, state, history)
+        landings.append(int(np.sum((history.triangle < 0) & (new.triangle >= 0))))
+        return new
+
+    PlyContactBlock.update_history = watched  # type: ignore[method-assign]
+    try:
+        yield landings
+    finally:
+        PlyContactBlock.update_history = accept  # type: ignore[method-assign]

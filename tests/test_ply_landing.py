@@ -34,14 +34,20 @@ from elements import (
     ply_projection,
     ply_surface,
 )
-from elements.ply_block import PlyContactBlock
 from elements.ply_friction import PlyFrictionHistory
 from elements.ply_sides import CLEAR, PlySides
 from femcore import Model
 from femcore.interaction_checks import check_tangent
 from solvers import Static
 from tests.explicit_runs import run_explicitly
-from tests.ply_pair import MU, capped_plies, moved_plies, static_histories, stepped_history
+from tests.ply_pair import (
+    MU,
+    capped_plies,
+    counted_landings,
+    moved_plies,
+    static_histories,
+    stepped_history,
+)
 from tests.test_interaction_conformance import plies
 from tests.test_ply_curved_friction import _anchored, _compiled_and_reference
 
@@ -251,7 +257,7 @@ def test_the_curved_tangents_landing_anchor_is_the_landing_rules_anchor():
     assert np.abs(lam - anchor).max() > 1e-3  # the anchors are not the projections
 
 
-def test_statics_newton_is_quadratic_through_landings_on_curved_faces(monkeypatch):
+def test_statics_newton_is_quadratic_through_landings_on_curved_faces():
     """A cap brought down 0.25 mm and 1 mm along x onto a curved ply (tests/ply_pair.py
     ``capped_plies``, mu 0.3) in 8 increments: 18, 16 and 9 points land in the first three.
     There each increment's first decreasing Newton step from a residual ratio r_k <= 1e-3
@@ -262,16 +268,8 @@ def test_statics_newton_is_quadratic_through_landings_on_curved_faces(monkeypatc
     benchmarks/ply_curved_landing_newton.py prints both). The bound lies a factor 2.3 above
     the largest measured and 2.8 below the smallest before: these constants are the
     residual's curvature over the tangent's, fixed by the model, not by rounding."""
-    landings: list[int] = []
-    accept = PlyContactBlock.update_history
-
-    def watched(block, state, history):
-        new = accept(block, state, history)
-        landings.append(int(np.sum((history.triangle < 0) & (new.triangle >= 0))))
-        return new
-
-    monkeypatch.setattr(PlyContactBlock, "update_history", watched)
-    result = Static(increments=8, progress=False).solve(capped_plies(1.0, -0.25))
+    with counted_landings() as landings:
+        result = Static(increments=8, progress=False).solve(capped_plies(1.0, -0.25))
     assert result.converged and min(landings[:3]) >= 9
     for ratios in result.info["residual_history"][:3]:
         steps = zip(ratios[:-1], ratios[1:])  # the first update raises the ratio: not it
