@@ -209,3 +209,17 @@ def counted_landings() -> Iterator[list[int]]:
         yield landings
     finally:
         PlyContactBlock.update_history = accept  # type: ignore[method-assign]
+
+
+def random_lower_faces(rng: np.random.Generator, count: int = 7):
+    """(before, now, normal_then, normal_now): ``count`` random lower-ply triangles' corners
+    (count, 3, 3) mm at the last accepted state, flattish (z scaled 0.3), and now, moved by
+    about 0.05 mm, with their unit normals (count, 3) then and now; the compiled ply kernels'
+    bit tests put their points on them."""
+    before = rng.uniform(-2.0, 2.0, (count, 3, 3)) * np.array([1.0, 1.0, 0.3])
+    now = before + rng.normal(0.0, 0.05, (count, 3, 3))
+    normal_then = np.cross(before[:, 1] - before[:, 0], before[:, 2] - before[:, 0])
+    normal_then /= np.linalg.norm(normal_then, axis=1)[:, None]
+    normal_now = np.cross(now[:, 1] - now[:, 0], now[:, 2] - now[:, 0])
+    normal_now /= np.linalg.norm(normal_now, axis=1)[:, None]
+    return before, now, normal_then, normal_now

@@ -16,6 +16,7 @@ import pytest
 
 from elements import ply_departure, ply_departure_kernels, ply_friction_kernels
 from elements.ply_sides import CLEAR, TOUCHING, PlySides
+from tests.ply_pair import random_lower_faces
 from tests.test_ply_departure import VX, VZ, lifted_plies
 
 MU = 0.3
@@ -31,14 +32,9 @@ def leaving_points(count: int, seed: int):
     nu), a few of those joined (not beside a growth)."""
     rng = np.random.default_rng(seed)
     m = 7
-    before = rng.uniform(-2.0, 2.0, (m, 3, 3)) * np.array([1.0, 1.0, 0.3])
-    now = before + rng.normal(0.0, 0.05, (m, 3, 3))
+    before, now, normal_then, normal_now = random_lower_faces(rng, m)
     triangle = rng.integers(0, m, count)
     weights = rng.dirichlet(np.ones(3), count)
-    normal_then = np.cross(before[:, 1] - before[:, 0], before[:, 2] - before[:, 0])
-    normal_then /= np.linalg.norm(normal_then, axis=1)[:, None]
-    normal_now = np.cross(now[:, 1] - now[:, 0], now[:, 2] - now[:, 0])
-    normal_now /= np.linalg.norm(normal_now, axis=1)[:, None]
     then = np.einsum("pk,pki->pi", weights, before[triangle])
     then += rng.uniform(-0.3, 0.1, count)[:, None] * normal_then[triangle]
     face = np.einsum("pk,pki->pi", weights + rng.normal(0, 0.02, (count, 3)), now[triangle])

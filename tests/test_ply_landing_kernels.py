@@ -17,7 +17,7 @@ import pytest
 
 from elements import ply_landing, ply_landing_kernels
 from elements.ply_sides import CLEAR, TOUCHING, PlySides
-from tests.ply_pair import stepped_history
+from tests.ply_pair import random_lower_faces, stepped_history
 from tests.test_ply_edge_crossing import VALLEY as FOLD
 from tests.test_ply_edge_crossing import VY_LANDING, VZ, landing_run
 from tests.test_ply_landing import VX, carried_plies
@@ -38,14 +38,9 @@ def landing_points(count: int, seed: int, edges: bool = True, growth: bool = Tru
     edge, a few of those joined; a few points non-finite now."""
     rng = np.random.default_rng(seed)
     m = 7
-    before = rng.uniform(-2.0, 2.0, (m, 3, 3)) * np.array([1.0, 1.0, 0.3])
-    now = before + rng.normal(0.0, 0.05, (m, 3, 3))
+    before, now, normal_then, normal_now = random_lower_faces(rng, m)
     triangle = rng.integers(0, m, count)
     weights = rng.dirichlet(np.ones(3), count)
-    normal_then = np.cross(before[:, 1] - before[:, 0], before[:, 2] - before[:, 0])
-    normal_then /= np.linalg.norm(normal_then, axis=1)[:, None]
-    normal_now = np.cross(now[:, 1] - now[:, 0], now[:, 2] - now[:, 0])
-    normal_now /= np.linalg.norm(normal_now, axis=1)[:, None]
     then = np.einsum("pk,pki->pi", weights, before[triangle])
     then += rng.uniform(-0.1, 0.3, count)[:, None] * normal_then[triangle]
     moved = weights + rng.normal(0, 0.02, (count, 3))
