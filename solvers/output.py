@@ -254,10 +254,12 @@ class HistoryWriter:
 #: anchored where its way crossed the lower face (§9.3a; its history's sides serve as the place
 #: it came from), 7 since a ply contact's point leaving the lower face dissipates its slip up to
 #: where it left (§9.3a), 8 since a ply contact's point whose gap is to an edge or a vertex lands
-#: where its way crossed that gap's zero and leaves with its slip counted (§9.3a), so that a run
-#: resumed from an older checkpoint cannot change its meaning midway.
+#: where its way crossed that gap's zero and leaves with its slip counted (§9.3a), 9 since such a
+#: point's anchor near T's plane (|nu . n| <= TILT) takes the continuous blend and a sliding
+#: point's moved anchor is re-expressed by the same rule (§9.3a), so that a run resumed from an
+#: older checkpoint cannot change its meaning midway.
 CHECKPOINT_PREFIX = b"fibreshell checkpoint "
-CHECKPOINT_FORMAT = 8
+CHECKPOINT_FORMAT = 9
 CHECKPOINT_MAGIC = CHECKPOINT_PREFIX + f"{CHECKPOINT_FORMAT}\n".encode()
 
 

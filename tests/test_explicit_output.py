@@ -209,7 +209,7 @@ def test_a_file_that_is_not_a_checkpoint_is_refused(tmp_path):
         CentralDifference(duration=1e-4, progress=False).solve(hanging_cable(), checkpoint=path)
 
 
-@pytest.mark.parametrize("older", [2, 3, 4, 5, 6, 7])
+@pytest.mark.parametrize("older", [2, 3, 4, 5, 6, 7, 8])
 def test_a_checkpoint_of_an_older_format_is_refused_naming_both_formats(tmp_path, older):
     """Format 2 recorded "internal" as the internal forces' work, friction included (format 3:
     the stored energy, docs/theory.md §6.1); format 3 anchored a tool contact's landing node
@@ -220,19 +220,21 @@ def test_a_checkpoint_of_an_older_format_is_refused_naming_both_formats(tmp_path
     where its way crossed the lower face, §9.3a); format 6 dissipated nothing for a ply
     contact point's slip in the step it left the lower face (format 7: up to where it left,
     §9.3a); format 7 gave a ply contact's point whose gap is to an edge or a vertex no friction
-    in its landing step and no slip in its departure step (format 8: §9.3a): a run resumed from
-    any would change the
+    in its landing step and no slip in its departure step (format 8: §9.3a); format 8 dropped
+    such a point's anchor along T's normal where its gap's normal lay within TILT of T's plane,
+    and re-expressed a sliding point's moved anchor so for either sign (format 9: the
+    continuous blend, the same rule for both, §9.3a): a run resumed from any would change the
     meaning of its records or its friction midway, so it is refused, whole and checksummed as
     it is."""
     from solvers.output import CHECKPOINT_FORMAT, CHECKPOINT_MAGIC, save_checkpoint
 
-    assert CHECKPOINT_FORMAT == 8
+    assert CHECKPOINT_FORMAT == 9
     path = tmp_path / "run.ckpt"
     save_checkpoint(path, {"signature": "any"})
     data = path.read_bytes()
     header = f"fibreshell checkpoint {older}\n".encode()
     path.write_bytes(header + data[len(CHECKPOINT_MAGIC) :])
-    with pytest.raises(ValueError, match=f"checkpoint of format {older}, .* reads format 8"):
+    with pytest.raises(ValueError, match=f"checkpoint of format {older}, .* reads format 9"):
         CentralDifference(duration=1e-4, progress=False).solve(hanging_cable(), checkpoint=path)
 
 
