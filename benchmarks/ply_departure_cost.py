@@ -180,6 +180,12 @@ keep, variant = (sys.argv[4], sys.argv[5]) if len(sys.argv) > 5 else ("", "")
 if variant == "numpy":
     from elements import ply_departure_kernels
     ply_departure_kernels.COMPILED = False
+if variant in ("faces", "edges", "numpy"):
+    # their landings watched in (with "numpy" timed by) numpy's ``ply_landing.landing``,
+    # which the kept landing asks only with the compiled one off (elements/
+    # ply_landing_kernels.py: the same bits), as these variants were measured
+    from elements import ply_landing_kernels
+    ply_landing_kernels.COMPILED = False
 if variant == "faces":
     from elements import ply_departure, ply_landing
     leaving, landing = ply_departure.leaving, ply_landing.landing

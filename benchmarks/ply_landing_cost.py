@@ -18,14 +18,16 @@ One numba thread, CPU (``time.process_time``), the machine's load printed.
     python benchmarks/ply_landing_cost.py [--share 0.1] [--capture 0.1] [--repeats 3]
         [--layup 0/90] [--kinematics mindlin]
 
-Measured (one thread, 2 cores shared with other jobs, load 3.1-3.8), the Mindlin [0/90] run
-over a tenth of its stroke (3494 steps): 3507 landings, 2.4 rows a call, every one the same
-bits both ways; 219.6 us a call by numpy, 38.7 compiled (the kernel's call and its Python:
-the rows' masks, the outputs' allocations, the inputs' types); the run 7.75 s by numpy
-(2.219 ms a step; the landing 0.90 s of it) against 6.89 s compiled (1.973 ms a step; the
-landing 0.11 s), best of 3 alternating; the frames and the records the same bytes.
+Measured (one thread, load 0.4-0.8, nothing else running; the landing with the continuous
+near-parallel blend and the edge rows' Crossing, their bits in the digest), the Mindlin [0/90]
+run over a tenth of its stroke (3465 steps): 3484 landings, 2.4 rows a call, every one the
+same bits both ways; 214.5 us a call by numpy, 40.5 compiled (the kernel's call and its
+Python: the rows' masks, the outputs' allocations, the inputs' types); the run 7.56 s by
+numpy (2.183 ms a step; the landing 0.87 s of it) against 6.83 s compiled (1.970 ms a step;
+the landing 0.11 s), best of 3 alternating; the frames and the records the same bytes.
 
-The whole Mindlin [0/90] stroke (``--share 1.0 --capture 0.02``, 32242 steps, about 29k landings;
+Measured before the blend (66be34b, the landing's step fallback near T's plane), the whole
+Mindlin [0/90] stroke (``--share 1.0 --capture 0.02``, 32242 steps, about 29k landings;
 load 2.9-5.3, alternating, best of 2): the landing 6.80-7.21 s of CPU by numpy against 0.91-1.30 s
 compiled; the runs 57.40 / 60.11 s against 55.45 / 55.56 s (1.780 -> 1.720 ms a step, the load's
 spread as large as the cut); the frames and records the same bytes. Again (load 2.1-9.1): 220.2 ->
@@ -55,6 +57,7 @@ from validation.studies import hemisphere_plies_setup as setup  # noqa: E402
 from validation.studies.hemisphere_plies_run import case_solver  # noqa: E402
 
 FIELDS = ("rows", "rate", "theta", "dtheta", "weights", "gradients", "normal", "height")
+CROSSING = ("before", "now", "then", "point", "feature", "normal", "plane")
 
 
 def _digest(found) -> bytes:
@@ -63,6 +66,8 @@ def _digest(found) -> bytes:
     parts = [getattr(found, name).tobytes() for name in FIELDS]
     parts += [b"" if found.edge is None else found.edge.tobytes()]
     parts += [b"" if found.place is None else found.place.tobytes()]
+    if found.crossing is not None:  # what the tangent moves the edge rows' anchors by
+        parts += [getattr(found.crossing, name).tobytes() for name in CROSSING]
     return hashlib.sha256(b"".join(parts)).digest()
 
 

@@ -39,7 +39,8 @@ __all__ = ["Crossing", "crossing_motion"]
 
 @dataclass(frozen=True)
 class Crossing:
-    """What ``edge_crossing`` made an edge point's landing anchor from (its arguments).
+    """What ``edge_crossing`` made the edge rows' landing anchors from: its arguments, the
+    zero's normal m given as the flag ``plane`` (m = n where set, else nu).
 
     before, now : (e, 3, 3) float
         T's corners at the last accepted state and now, mm.

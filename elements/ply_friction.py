@@ -744,7 +744,8 @@ def updated_history(
     # Re-expressed from the facing triangle's closest point p - g n, and brought into its
     # plane along n, not along the plane's own normal m: a point facing an edge or a vertex
     # (elements/ply_projection.py) has n != m, and s, across n, must keep its new length
-    # (on a plane n = m and the correction vanishes).
+    # (on a plane n = m and the correction vanishes). That holds where |n . m| > TILT; below
+    # it the landing's blend (next lines), which gives part of that length up.
     _, y = block._faces(state)
     plane = triangle_frames(y[facing.triangle])[0]
     # a point facing no patch (curved faces: gap inf, normal 0; elements/ply_curved.py)

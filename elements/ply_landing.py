@@ -71,7 +71,7 @@ import numpy as np
 
 from elements.ply_edge_landing import Crossing, crossing_motion
 from elements.ply_projection import triangle_frames
-from elements.ply_sides import TOUCHING
+from elements.ply_sides import TOUCHING, PlySides
 
 if TYPE_CHECKING:
     from elements.ply_block import PlyContactBlock
@@ -154,9 +154,14 @@ class Landing:
             )
         motion *= self.theta[:, None, None, None]
         motion += (self.rate * self.dtheta[:, None])[:, :, None, None] * gap_gradient[:, None]
-        if self.edge is not None and self.crossing is not None:  # ``edge_crossing``'s anchor
-            if hessian is None:
-                raise ValueError("an edge point's landing anchor moves by its gap's Hessian")
+        if self.edge is not None:  # ``edge_crossing``'s anchor
+            if hessian is None or self.crossing is None:
+                raise ValueError(
+                    "an edge point's landing anchor moves by its crossing (Landing.crossing) "
+                    "and its gap's Hessian (Facing.hessian's rows, (r, 4, 3, 4, 3)); got "
+                    f"crossing {'None' if self.crossing is None else 'given'}, hessian "
+                    f"{'None' if hessian is None else 'given'}"
+                )
             motion[self.edge] = crossing_motion(self.crossing, hessian[self.edge], TILT)
         return motion
 
@@ -232,17 +237,10 @@ def landing(
         edge = facing.on_edge[rows]
         at = np.flatnonzero(edge)
         place = np.full((len(rows), 3), np.nan)
+        crossing = edge_rows_crossing(facing, sides, y, rows[at])
         # the gap's zero through q: normal to nu, or T's plane where T's normal signs the gap
         # (beside a growth's edge, at an outline vertex, on a cut: docstring)
-        zero = facing.normal[rows[at]]
-        plane = np.zeros(len(at), dtype=bool)
-        if facing.on_growth is not None and facing.joined is not None:
-            plane = facing.on_growth[rows[at]] & ~facing.joined[rows[at]]
-            zero = np.where(plane[:, None], normal[at], zero)
-        crossing = Crossing(
-            before[at], now[at], then[at], p[at], facing.weights[rows[at]],
-            facing.normal[rows[at]], plane,
-        )  # fmt: skip
+        zero = np.where(crossing.plane[:, None], normal[at], crossing.normal)
         theta[at], place[at] = edge_crossing(
             crossing.before, crossing.now, crossing.then, crossing.point, crossing.feature,
             crossing.normal, zero,
@@ -251,6 +249,24 @@ def landing(
     return Landing(
         rows, rate, theta, dtheta, weights, gradients, normal, height, edge, place, crossing
     )
+
+
+def edge_rows_crossing(
+    facing: Facing, sides: PlySides, y: np.ndarray, points: np.ndarray
+) -> Crossing:
+    """What ``edge_crossing`` takes for the landing points ``points`` (e,) int whose gap is to
+    an edge or a vertex (``Crossing``): their facing triangles' corners then (the history's
+    ``sides``) and now (``y`` (m, 3, 3) mm), the points then and now, their closest points'
+    coordinates and gap normals, and whether their gap's zero is T's plane (beside a growth's
+    edge, not joined: module docstring)."""
+    triangle = facing.triangle[points]
+    plane = np.zeros(len(points), dtype=bool)
+    if facing.on_growth is not None and facing.joined is not None:
+        plane = facing.on_growth[points] & ~facing.joined[points]
+    return Crossing(
+        sides.corners[triangle], y[triangle], sides.faces[points], facing.face[points],
+        facing.weights[points], facing.normal[points], plane,
+    )  # fmt: skip
 
 
 def edge_crossing(

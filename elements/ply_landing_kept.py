@@ -1,22 +1,22 @@
-"""A ply contact's landing points found once per state (elements/ply_landing.py ``landing`` and
-``landed``; docs/theory.md §9.3a, "A point's landing step"), kept on the block with the state's
-facing and the accepted history they were found from.
+"""A ply contact's landing points found once per state (elements/ply_landing_kernels.py
+``landing``, compiled on the flat faces, numpy's elements/ply_landing.py ``landing`` on the
+curved ones, and ``ply_landing.landed``; docs/theory.md §9.3a, "A point's landing step"), kept
+on the block with the state's facing and the accepted history they were found from.
 
 The loads, the energy, the tangent and the accepted history of a state each asked for the
-landing points at it (about 30 numpy calls where points land). Kept for the last (history,
-facing), the second and later asks from one history take the first one's answer: the same
-objects, so the same bits. This serves the energy beside the loads (an explicit solver's
-checking steps) and Static's loads, energy and tangent at one iterate, all from the
-increment's history. An explicit step asks at one state from two histories: its commit from
-the history before the step (where the landing points are found, once), the next step's loads
-from the committed history, whose sides touch wherever the facing touches, so that none lands
-(measured: none in 584 such asks of the hemisphere-plies Mindlin [0/90] run at 6 cells, its
-masks alone). The facing is kept by the block for the bits of the state's positions and
-directors (elements/ply_block.py ``facing``, elements/ply_sides.py ``held_facing``), so the
-same facing object is the same state; the history is matched by identity and by the bytes of
-the arrays the landing reads (its anchors' triangles and places, its points' sides: a caller
-that edits them in place is answered afresh), and mu by value.
-"""
+landing points at it (one compiled call where points land on flat faces, about 30 numpy calls
+on curved ones). Kept for the last (history, facing), the second and later asks from one
+history take the first one's answer: the same objects, so the same bits. This serves the energy
+beside the loads (an explicit solver's checking steps) and Static's loads, energy and tangent
+at one iterate, all from the increment's history. An explicit step asks at one state from two
+histories: its commit from the history before the step (where the landing points are found,
+once), the next step's loads from the committed history, whose sides touch wherever the facing
+touches, so that none lands (measured: none in 584 such asks of the hemisphere-plies Mindlin
+[0/90] run at 6 cells, its masks alone). The facing is kept by the block for the bits of the
+state's positions and directors (elements/ply_block.py ``facing``, elements/ply_sides.py
+``held_facing``), so the same facing object is the same state; the history is matched by
+identity and by the bytes of the arrays the landing reads (its anchors' triangles and places,
+its points' sides: a caller that edits them in place is answered afresh), and mu by value."""
 
 from __future__ import annotations
 
@@ -49,7 +49,8 @@ def _bits(history: PlyFrictionHistory) -> bytes:
 def kept_landing(
     block: PlyContactBlock, state: State, history: PlyFrictionHistory, facing: Facing
 ) -> tuple[Landing | None, PlyFrictionHistory]:
-    """(``ply_landing.landing``, ``ply_landing.landed`` with it) at ``state`` (``facing``
+    """(``ply_landing_kernels.landing``: compiled on the flat faces, numpy's on the curved;
+    ``ply_landing.landed`` with it) at ``state`` (``facing``
     there) from ``history``: found once, then kept for that history and facing (module
     docstring). Where no point lands (most steps) the answer is the history itself, found by
     ``landing_rows``' few masks: cheaper than the keep's own check, which copies the history's

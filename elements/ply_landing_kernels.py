@@ -5,19 +5,21 @@ pen) and its derivative's factor, T's frame now and the point's height over it, 
 points whose gap is to an edge or a vertex, theta and the anchor's place by that gap
 (``ply_landing.edge_crossing``), in one compiled call.
 
-The numpy reference made some thirty numpy calls and four of ``triangle_frames`` on a few
-rows, at almost every step of a two-ply run whose flange points rest near zero gap and land
-and leave in turn: its fixed cost, about 220 us a call, 6.8-7.2 s of CPU over the report's
-Mindlin [0/90] run (about 29k landings in 32242 steps), the largest ply cost left; compiled,
-about 40 us a call (the kernel's call and its inputs' types), 0.9-1.3 s
-(benchmarks/ply_landing_cost.py). The kernel does the same IEEE operations in the same order as the
-numpy reference (as elements/ply_departure_kernels.py: the cross products as
+The numpy reference made some thirty numpy calls and four of ``triangle_frames`` (seven with
+edge rows) on a few rows, at almost every step of a two-ply run whose flange points rest near
+zero gap and land and leave in turn: its fixed cost, about 220 us a call, 6.8-7.2 s of CPU over
+the report's Mindlin [0/90] run (about 29k landings in 32242 steps), the largest ply cost left;
+compiled, about 40 us a call (the kernel's call and its inputs' types), 0.8-1.3 s
+(benchmarks/ply_landing_cost.py). The kernel does the same IEEE operations in the same order as
+the numpy reference (as elements/ply_departure_kernels.py: the cross products as
 femcore/rotation.py ``cross`` writes them, the norms' and ``np.sum(axis=1)``'s sums from the
-first term, ``einsum("rki,rki->rk")``, ``einsum("ri,ri->r")`` and ``einsum("rki,ri->rk")``
-as (first + last) + middle, ``einsum("rk,rki->ri")`` from the first term, numpy's
-``maximum`` keeping NaN and -0.0; no fused multiply-add: numba builds without fastmath), so
-that the anchors, and the run, are the same to the last bit (tests/test_ply_landing_kernels.
-py). The curved faces' landing (its places along the Phong patch's normal) stays numpy.
+first term, ``einsum("rki,rki->rk")``, ``einsum("ri,ri->r")`` and ``einsum("rki,ri->rk")`` as
+(first + last) + middle, ``einsum("rk,rki->ri")`` from the first term, numpy's ``maximum``
+keeping NaN and -0.0; no fused multiply-add: numba builds without fastmath), so that the
+anchors, and the run, are the same to the last bit (tests/test_ply_landing_kernels.py). The
+curved faces' landing (its places along the Phong patch's normal) stays numpy. The edge rows'
+``Crossing`` (what the tangent moves their anchors by) is gathered after the call, by the same
+helper as numpy's ``landing`` (``ply_landing.edge_rows_crossing``).
 """
 
 from __future__ import annotations
@@ -29,7 +31,6 @@ import numpy as np
 from elements import ply_landing
 from elements.jit import jit_lanes, prange
 from elements.kernel_inputs import read_only, writable
-from elements.ply_edge_landing import Crossing
 
 if TYPE_CHECKING:
     from elements.ply_block import PlyContactBlock
@@ -261,13 +262,7 @@ def landing(
     if not edge.any():
         return ply_landing.Landing(rows, rate, theta, dtheta, weights, gradients, normal, height)
     # what the tangent moves the edge rows' anchors by (``ply_landing.landing``'s Crossing)
-    at = rows[edge]
-    triangle = facing.triangle[at]
-    plane = np.zeros(len(at), dtype=bool) if len(plane_zero) == 0 else plane_zero[at]
-    crossing = Crossing(
-        sides.corners[triangle], y[triangle], sides.faces[at], facing.face[at],
-        facing.weights[at], facing.normal[at], plane,
-    )  # fmt: skip
+    crossing = ply_landing.edge_rows_crossing(facing, sides, y, rows[edge])
     return ply_landing.Landing(
         rows, rate, theta, dtheta, weights, gradients, normal, height, edge, place, crossing
     )

@@ -222,7 +222,8 @@ def test_a_checkpoint_of_an_older_format_is_refused_naming_both_formats(tmp_path
     §9.3a); format 7 gave a ply contact's point whose gap is to an edge or a vertex no friction
     in its landing step and no slip in its departure step (format 8: §9.3a); format 8 dropped
     such a point's anchor along T's normal where its gap's normal lay within TILT of T's plane,
-    and re-expressed a sliding point's moved anchor so for either sign (format 9: the
+    and re-expressed a sliding point's moved anchor along T's normal wherever nu . n <= 0.1, nu
+    below T's plane included (format 9: the
     continuous blend, the same rule for both, §9.3a): a run resumed from any would change the
     meaning of its records or its friction midway, so it is refused, whole and checksummed as
     it is."""

@@ -48,8 +48,8 @@ within x4's. The bounds lie above that scatter by 5 (the largest slip: 0.04 mm),
 0.013), 2 (edges: 0.25), 10 (corners: 0.26) and 1.4 (late force: 1.4 %) and below the x2 runs'
 departures from x4 (the largest slip 1.98-7.88 mm apart where they snap, rms 0.13-1.40).
 Those runs are the landing rule's with its step fallback near T's plane; with the continuous
-one (docs/theory.md §9.3a, ``ply_landing.TILT``) the x4 run at mu ends at 0.563 mm, rms 0.275
-mm (0.568, 0.274 before), and this test passes.
+one (docs/theory.md §9.3a, ``ply_landing.TILT``) and the history re-expressed by the same rule
+the x4 run at mu ends at 0.563 mm, rms 0.275 mm (0.568, 0.274 before), and this test passes.
 """
 
 from __future__ import annotations

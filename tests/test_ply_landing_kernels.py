@@ -53,12 +53,12 @@ def landing_points(count: int, seed: int, edges: bool = True, growth: bool = Tru
     sides = np.where(rng.random(count) < 0.85, CLEAR, TOUCHING).astype(np.int8)
     normal = rng.normal(0.0, 1.0, (count, 3))
     normal /= np.linalg.norm(normal, axis=1)[:, None]
-    flat = rng.random(count) < 0.1  # nu nearly in T's plane: |nu . n| <= 0.1
-    normal[flat] -= (
-        np.sum(normal[flat] * normal_now[triangle[flat]], axis=1)[:, None]
-        * (normal_now[triangle[flat]])
-    )
+    flat = rng.random(count) < 0.1  # nu within TILT of T's plane: the blend's rows
+    plane = normal_now[triangle[flat]]
+    normal[flat] -= np.sum(normal[flat] * plane, axis=1)[:, None] * plane
     normal[flat] /= np.linalg.norm(normal[flat], axis=1)[:, None]
+    rise = rng.uniform(-0.1, 0.1, int(flat.sum()))  # nu . n
+    normal[flat] = np.sqrt(1.0 - rise**2)[:, None] * normal[flat] + rise[:, None] * plane
     on_edge = rng.random(count) < 0.35
     on_growth = on_edge & (rng.random(count) < 0.7)
     joined = on_growth & (rng.random(count) < 0.15)
@@ -115,6 +115,11 @@ def test_the_compiled_landing_gives_the_numpy_landing_to_the_bit(count):
         assert np.any(expected.theta == 1.0)
     if count >= 600:
         assert np.any(np.isnan(expected.rate))
+        # both sides of the anchor's rule met: the blend (|nu . n| <= TILT) and nu below T
+        tilt = np.sum(points[3].normal[expected.rows] * expected.normal, axis=1)
+        edge = expected.edge
+        assert np.any(edge & (np.abs(tilt) <= ply_landing.TILT) & (tilt != 0.0))
+        assert np.any(edge & (tilt < -ply_landing.TILT))
 
 
 @pytest.mark.parametrize("edges, growth", [(False, False), (True, False)])

@@ -26,7 +26,7 @@ from typing import Any
 
 import numpy as np
 
-from elements import ply_block, ply_departure, ply_friction, ply_landing
+from elements import ply_block, ply_departure, ply_friction, ply_landing, ply_landing_kernels
 from elements.ply_sides import TOUCHING
 from validation.studies import hemisphere_plies_run as study
 from validation.studies.hemisphere_plies_setup import HOLDER_FORCES
@@ -125,6 +125,9 @@ class _Probe:
             probe.dissipated[id(block)] = float(getattr(new, "dissipated", 0.0))
             return new
 
+        # the landing by numpy's ``ply_landing.landing`` (watched here): the kept landing
+        # asks the compiled one on flat faces (elements/ply_landing_kernels.py, the same bits)
+        ply_landing_kernels.COMPILED = False
         ply_landing.landing, ply_landing.landed = self.landing, self.landed  # type: ignore[assignment]
         ply_departure.departure = self.departure  # type: ignore[assignment]
         ply_block.PlyContactBlock.update_history = update_history  # type: ignore[method-assign]
