@@ -261,14 +261,14 @@ of user CPU, the wall following the CPU on its 2 cores). A fresh clone, a fresh 
 ``python benchmarks/suite_signatures.py --run -- python -m pytest --durations=0`` (load 0.2
 rising to 6 as other jobs started: 13 min 2 s wall, 837 s of user + system CPU):
 
-* numba compiling 161.5 s (19 %): 477 compilations in 6 processes, 150.6 s of them the
-  project's 270 kernels, spread thin (the largest the curved friction's local loads, real
-  and complex, 5.9 + 7.5 s; the fibrous Hessian's cells 7.6 s; the fabric section's response
-  5.9 s; every other under 3.7 s); the parallel builds 30.2 s, all in the worker that ran
-  the tests marked ``parallel`` (their only callers: they compare those builds' bits). Three
-  second builds (``law_row`` three times, kept: elements/fibrous/level_lanes.py; the complex
-  local loads, the complex-step test's) and six builds again in another process (3.1 s: the
-  supernodal factors compiled for a generic CPU in a subprocess of their own, on purpose);
+* numba compiling 161.5 s (19 %): 477 compilations in 6 processes, 150.6 s of them the project's
+  kernels in 270 compilations, spread thin (the largest the curved friction's local loads, real
+  and complex, 5.9 + 7.5 s; the fibrous Hessian's cells 7.6 s; the fabric section's response 5.9
+  s; every other under 3.7 s); the parallel builds 30.2 s, all in the worker that ran the tests
+  marked ``parallel`` (their only callers: they compare those builds' bits). Three second builds
+  (``law_row`` three times, kept: elements/fibrous/level_lanes.py; the complex local loads, the
+  complex-step test's) and six builds again in another process (3.1 s: the supernodal factors
+  compiled for a generic CPU in a subprocess of their own, on purpose);
 * the pace test (tests/test_hemisphere_plies_pace.py, the Mindlin [0/90] run at x4 and x8)
   about 165 s of one worker's CPU (170 s of wall in CI140, 163 s alone and quiet): a fifth
   of the run; the only test of its claim, and no other test or the coarse report runs it;

@@ -131,8 +131,8 @@ def law_lanes(lanes, count, weight, law_integers, law_reals, with_forces, with_e
         eps1, eps2 = lanes[EPS1 + i], lanes[EPS2 + i]
         lanes[WARP + i] = eps1 if warp_first else eps2
         lanes[WEFT + i] = eps2 if warp_first else eps1
-    # The law and its rows as constants: numba builds law_row once per family (three builds,
-    # about 1.1 s of CPU each from an empty cache), each with its rows' offsets known, and the
+    # The law and its rows as constants: numba builds law_row once per row k (0, 1, 2: three
+    # builds, about 1.1 s of CPU each from an empty cache), each with its rows' offsets known; the
     # force is 5 % faster for it than with one build given them as int64 values (the same
     # bits; benchmarks/suite_signatures.py)
     law_row(lanes, count, law_integers, law_reals, 0, WARP, VALUE0, ENERGY0, with_forces,
