@@ -91,12 +91,16 @@ UNIT = np.array([[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]])  # T on z =
 UNIT_NORMAL = np.array([0.0, 0.0, 1.0])
 
 
-def crossing_of(z: np.ndarray, feature: tuple[int, ...], then: np.ndarray, plane: bool):
+def crossing_of(
+    z: np.ndarray, feature: tuple[int, ...], then: np.ndarray, plane: bool, below: bool = False
+):
     """(place (3,), Crossing, gap Hessian (4, 3, 4, 3)) of ``edge_crossing`` at z = (p, y_1,
     y_2, y_3) (4, 3): q the closest point of p on T's edge between the corners ``feature``
     (two) or at that corner (one), lambda and nu from it (as the search finds them,
     elements/ply_edge_gap.py), T's corners then UNIT, the point then ``then``; the gap's zero
-    T's plane where ``plane``, else normal to nu."""
+    T's plane where ``plane``, else normal to nu. ``below``: the gap signed the other way (g
+    -> -g: nu and the Hessian negated), as a fold sharper than a right angle signs it, so
+    that nu points below T's plane."""
     p, corners = z[0], z[1:]
     if len(feature) == 2:
         start, end = corners[feature[0]], corners[feature[1]]
@@ -108,6 +112,8 @@ def crossing_of(z: np.ndarray, feature: tuple[int, ...], then: np.ndarray, plane
     _, nu, weights, hessian = towards_closest(
         p[None], q[None], normal, corners[None], gradients, np.zeros((1, 3)), True
     )
+    if below:
+        nu, hessian = -nu, -hessian
     crossing = Crossing(
         UNIT[None], corners[None], then[None], p[None], weights, nu, np.array([plane])
     )
@@ -118,28 +124,71 @@ def crossing_of(z: np.ndarray, feature: tuple[int, ...], then: np.ndarray, plane
     return place[0], crossing, hessian
 
 
-# (name, the feature's corners, p, the point then, the gap's zero T's plane)
+# (name, the feature's corners, p, the point then, the gap's zero T's plane, nu below T's
+# plane, nu . n: "steep" above TILT, "blend" within it, "below" under -TILT)
 CROSSINGS = [
-    ("edge, nu steep", (0, 1), [0.4, -0.03, -0.05], [0.35, 0.02, 0.04], False),
-    ("edge, zero T's plane", (0, 1), [0.45, -0.3, -0.03], [0.4, -0.3, 0.01], True),
-    ("vertex", (0,), [-0.02, -0.03, -0.04], [0.03, 0.02, 0.05], False),
-    ("edge, nu within TILT of T's plane", (0, 1), [0.4, -0.3, -0.02], [0.35, 0.02, 0.01], False),
-    ("hypotenuse, nu steep", (1, 2), [0.55, 0.5, -0.06], [0.45, 0.45, 0.03], False),
+    ("edge, nu steep", (0, 1), [0.4, -0.03, -0.05], [0.35, 0.02, 0.04], False, False, "steep"),
+    ("edge, zero T's plane", (0, 1), [0.45, -0.3, -0.03], [0.4, -0.3, 0.01], True, False, "blend"),
+    (
+        "edge, zero T's plane, nu steep",
+        (0, 1),
+        [0.4, -0.03, -0.05],
+        [0.35, 0.02, 0.04],
+        True,
+        False,
+        "steep",
+    ),  # fmt: skip
+    ("vertex", (0,), [-0.02, -0.03, -0.04], [0.03, 0.02, 0.05], False, False, "steep"),
+    (
+        "edge, nu within TILT of T's plane",
+        (0, 1),
+        [0.4, -0.3, -0.02],
+        [0.35, 0.02, 0.01],
+        False,
+        False,
+        "blend",
+    ),  # fmt: skip
+    (
+        "hypotenuse, nu steep",
+        (1, 2),
+        [0.55, 0.5, -0.06],
+        [0.45, 0.45, 0.03],
+        False,
+        False,
+        "steep",
+    ),  # fmt: skip
+    (
+        "edge, nu below T's plane",
+        (0, 1),
+        [0.4, -0.1, 0.2],
+        [0.35, 0.02, -0.04],
+        False,
+        True,
+        "below",
+    ),  # fmt: skip
 ]
 
 
 @pytest.mark.parametrize(
-    "feature, point, then, plane", [c[1:] for c in CROSSINGS], ids=[c[0] for c in CROSSINGS]
+    "feature, point, then, plane, below, tilt",
+    [c[1:] for c in CROSSINGS],
+    ids=[c[0] for c in CROSSINGS],
 )
-def test_an_edge_anchors_motion_is_the_derivative_of_its_crossing(feature, point, then, plane):
+def test_an_edge_anchors_motion_is_the_derivative_of_its_crossing(
+    feature, point, then, plane, below, tilt
+):
     """``crossing_motion`` against central differences (step 1e-7 mm) of ``edge_crossing``'s
     anchor, q, lambda and nu found again at each moved z (T's corners moved off UNIT by a
     jitter, p as given): on an edge and at a vertex, the zero normal to nu or T's plane, nu
-    steep or within TILT of T's plane (tilt 0.033 and 0.064, the rule's blend), to 1e-7 of the
-    largest entry (measured 1.7e-10 to 2.1e-9; truncation and rounding at that step 1e-9)."""
+    steep or within TILT of T's plane (tilt 0.033 and 0.064, the rule's blend) or below it
+    (tilt -0.89, the gap signed the other way), to 1e-7 of the largest entry (measured
+    1.7e-10 to 2.1e-9; truncation and rounding at that step 1e-9)."""
     rng = np.random.default_rng(7)
     z = np.vstack([np.array(point, dtype=float)[None], UNIT + 0.02 * rng.standard_normal((3, 3))])
-    place, crossing, hessian = crossing_of(z, feature, np.array(then, dtype=float), plane)
+    place, crossing, hessian = crossing_of(z, feature, np.array(then, dtype=float), plane, below)
+    t = float(np.dot(crossing.normal[0], triangle_frames(crossing.now)[0][0]))  # nu . n
+    kind = "below" if t < -ply_landing.TILT else "blend" if abs(t) <= ply_landing.TILT else "steep"
+    assert kind == tilt, t
     motion = crossing_motion(crossing, hessian, ply_landing.TILT)[0]  # (3, 4, 3)
     step = 1e-7
     numeric = np.zeros((3, 4, 3))
@@ -147,8 +196,8 @@ def test_an_edge_anchors_motion_is_the_derivative_of_its_crossing(feature, point
         for axis in range(3):
             moved = np.zeros((4, 3))
             moved[slot, axis] = step
-            plus = crossing_of(z + moved, feature, np.array(then, dtype=float), plane)[0]
-            minus = crossing_of(z - moved, feature, np.array(then, dtype=float), plane)[0]
+            plus = crossing_of(z + moved, feature, np.array(then, dtype=float), plane, below)[0]
+            minus = crossing_of(z - moved, feature, np.array(then, dtype=float), plane, below)[0]
             numeric[:, slot, axis] = (plus - minus) / (2.0 * step)
     assert np.abs(numeric).max() > 0.1  # the anchor moves
     assert np.abs(motion - numeric).max() <= 1e-7 * np.abs(numeric).max()
