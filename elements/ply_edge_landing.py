@@ -126,7 +126,7 @@ def crossing_motion(crossing: Crossing, hessian: np.ndarray, tilt_floor: float) 
     # the move onto T's plane: a = rise t / max(t^2, TILT^2) along nu, t = n . nu
     tilt = np.einsum("ei,ei->e", n, nu)
     d_tilt = np.einsum("eizb,ei->ezb", d_n, nu) + np.einsum("ei,eizb->ezb", n, d_nu)
-    steep = tilt**2 > tilt_floor**2
+    steep = np.abs(tilt) > tilt_floor  # (as edge_crossing decides it)
     floor = np.where(steep, tilt**2, tilt_floor**2)
     along = rise * tilt / floor
     d_floor = np.where(steep[:, None, None], 2.0 * tilt[:, None, None] * d_tilt, 0.0)
@@ -138,7 +138,7 @@ def crossing_motion(crossing: Crossing, hessian: np.ndarray, tilt_floor: float) 
     return (
         d_place
         - share[:, :, None, None] * d_along[:, None]
-        - along[:, None, None, None] * (d_share)
+        - along[:, None, None, None] * d_share
     )
 
 
