@@ -23,6 +23,7 @@ from __future__ import annotations
 
 import argparse
 import importlib
+import inspect
 import os
 import sys
 import tempfile
@@ -58,6 +59,15 @@ def main(argv=None) -> None:
         package, commit = revision_modules(args.ref, Path(folder), FILE)
         old = importlib.import_module(f"{package}.ply_curved_friction_kernels")
         print(f"{args.ref} ({commit}) beside this tree, one process, CPU time", flush=True)
+        # a revision whose pass takes other arguments (before the curved landing anchor's
+        # tangent, for one) cannot run on this tree's points: say so rather than fail inside
+        ours, theirs = (inspect.signature(m.local_loads).parameters for m in (new, old))
+        if list(ours) != list(theirs):
+            raise SystemExit(
+                f"{args.ref} ({commit}): its local_loads takes ({', '.join(theirs)}), this "
+                f"tree's ({', '.join(ours)}); compare with a revision whose pass takes the "
+                "same arguments"
+            )
         block, data, arguments, stepped, repeated = _local()
         settings = (block.smoothing, block.friction, block.stick == "penalty")
         for name, points, per_point in (("real", data, arguments), ("complex", stepped, repeated)):
