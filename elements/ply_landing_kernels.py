@@ -28,6 +28,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from elements import plane_place_kernels as plane
 from elements import ply_landing
 from elements.jit import jit_lanes, prange
 from elements.kernel_inputs import read_only, writable
@@ -86,7 +87,7 @@ def _landing(
         t = triangle[i]
         # T's frames then (side 0) and now (side 1), the point's places on their planes and
         # heights over them: ply_projection.triangle_frames and ply_landing.plane_places,
-        # operation by operation
+        # operation by operation (elements/plane_place_kernels.py)
         g_then = 0.0  # np.sum(n_then * (then - y_1 then), axis=1): from the first term
         height_then = 0.0  # plane_places' height then (einsum: (first + last) + middle)
         height_plane = 0.0  # plane_places' height now
@@ -96,39 +97,8 @@ def _landing(
         for side in range(2):
             corners = before[t] if side == 0 else now[t]
             point = then[i] if side == 0 else face[i]
-            e0 = corners[1, 0] - corners[0, 0]
-            e1 = corners[1, 1] - corners[0, 1]
-            e2 = corners[1, 2] - corners[0, 2]
-            f0 = corners[2, 0] - corners[0, 0]
-            f1 = corners[2, 1] - corners[0, 1]
-            f2 = corners[2, 2] - corners[0, 2]
-            c0 = e1 * f2 - e2 * f1
-            c1 = e2 * f0 - e0 * f2
-            c2 = e0 * f1 - e1 * f0
-            area2 = np.sqrt((c0 * c0 + c1 * c1) + c2 * c2)
-            n0, n1, n2 = c0 / area2, c1 / area2, c2 / area2
-            q0 = point[0] - corners[1, 0]
-            q1 = point[1] - corners[1, 1]
-            q2 = point[2] - corners[1, 2]
-            r0 = point[0] - corners[0, 0]
-            r1 = point[1] - corners[0, 1]
-            r2 = point[2] - corners[0, 2]
-            # the edges opposite corners 0, 1 and 2 (y3 - y2, y1 - y3, y2 - y1), cyclic
-            a0 = corners[2, 0] - corners[1, 0]
-            a1 = corners[2, 1] - corners[1, 1]
-            a2 = corners[2, 2] - corners[1, 2]
-            b0 = corners[0, 0] - corners[2, 0]
-            b1 = corners[0, 1] - corners[2, 1]
-            b2 = corners[0, 2] - corners[2, 2]
-            g00 = (n1 * a2 - n2 * a1) / area2
-            g01 = (n2 * a0 - n0 * a2) / area2
-            g02 = (n0 * a1 - n1 * a0) / area2
-            g10 = (n1 * b2 - n2 * b1) / area2
-            g11 = (n2 * b0 - n0 * b2) / area2
-            g12 = (n0 * b1 - n1 * b0) / area2
-            w0 = (g00 * q0 + g02 * q2) + g01 * q1
-            w1 = (g10 * r0 + g12 * r2) + g11 * r1
-            w2 = 1.0 - w0 - w1
+            n0, n1, n2, _, g00, g01, g02, g10, g11, g12, g20, g21, g22 = plane.frame(corners)
+            w0, w1, w2, r0, r1, r2 = plane.place(corners, point, g00, g01, g02, g10, g11, g12)
             if side == 0:
                 old0, old1, old2 = w0, w1, w2
                 g_then = (n0 * r0 + n1 * r1) + n2 * r2
@@ -140,10 +110,7 @@ def _landing(
                 height_plane = (n0 * r0 + n2 * r2) + n1 * r1
                 gradients[j, 0, 0], gradients[j, 0, 1], gradients[j, 0, 2] = g00, g01, g02
                 gradients[j, 1, 0], gradients[j, 1, 1], gradients[j, 1, 2] = g10, g11, g12
-                # (the edge y2 - y1 opposite corner 2 is e)
-                gradients[j, 2, 0] = (n1 * e2 - n2 * e1) / area2
-                gradients[j, 2, 1] = (n2 * e0 - n0 * e2) / area2
-                gradients[j, 2, 2] = (n0 * e1 - n1 * e0) / area2
+                gradients[j, 2, 0], gradients[j, 2, 1], gradients[j, 2, 2] = g20, g21, g22
         # numpy's maximum(x, 0): NaN and -0.0 kept
         if not (g_then >= 0.0 or g_then != g_then):
             g_then = 0.0
