@@ -34,6 +34,7 @@ from materials import BendingLaw
 from materials.presets import g986_stack
 from solvers import Static
 from validation import specimens
+from validation.references import elastica as references
 from validation.references.elastica import (
     PEIRCE_ANGLE_DEG,
     MomentCurvature,
@@ -182,6 +183,26 @@ def test_peirce_test_of_the_bilinear_law_reports_a_tenth_of_its_initial_slope():
     assert test["apparent_stiffness"] == pytest.approx(0.7098, rel=1e-3)
     linear = peirce_overhang(WEIGHT, test["apparent_stiffness"])
     assert linear["overhang"] == pytest.approx(test["overhang"], rel=2e-4)
+
+
+def test_peirce_test_solves_each_overhang_it_tries_once_and_returns_that_solve(monkeypatch):
+    # The bracket's search and brentq ask some overhangs twice (the first point, the bracket's
+    # ends, the root brentq returns): each is one collocation solve, whose shape the test
+    # returns, the same to the bit as heavy_cantilever_law's at that overhang.
+    solved = []
+    solve = references._heavy_bvp
+
+    def spy(law, length, weight, *rest):
+        solved.append((length, weight))
+        return solve(law, length, weight, *rest)
+
+    monkeypatch.setattr(references, "_heavy_bvp", spy)
+    test = peirce_overhang(WEIGHT, LAW)
+    assert len(solved) == len(set(solved)) > 3
+    assert (test["overhang"], WEIGHT) in solved
+    shape = heavy_cantilever_law(test["overhang"], WEIGHT, LAW)
+    for key, value in shape.items():
+        assert np.array_equal(test["solution"][key], value), key
 
 
 # ------------------------------------------------------------------------ both kinematics
