@@ -23,6 +23,16 @@ No gain where the path is set by its cuts: bai-5.1 (15 / 60 cells, 52 increments
 on either count: 1.84 -> 1.51 s and 3.64 -> 3.81 s), bai-6.1.2 (20 -> 10 increments: the
 24-cell fibrous run 4.35 -> 4.97 s, 25 increments either way, 3 -> 5 cuts); so only the two
 corner cases take ``order_increments`` (5). The orders' checks are at 1 %.
+
+bai-6.2.2 and bai-6.1.2 on 20 (their ``increments``) -> 10, 5, 3 (``--increments 10,5,3``,
+one run each, one thread, load 2.8-3.4; the first run of the process pays numba's cache
+loads): bai-6.2.2 24 cells fibrous 2.91 -> 2.29 / 3.01 / 2.66 s (22 -> 15 / 14 / 16
+increments, 2 -> 2 / 4 / 3 cuts), 1.1e-9 / 1.3e-15 / 4.2e-11 apart; Mindlin 0.73 -> 0.65 /
+0.77 / 0.75 s; the 6-cell runs 0.26 / 0.24 / 0.32 s (fibrous) and 0.13 / 0.13 / 0.09 s
+(Mindlin) against 0.22 and 0.14 in the case. The four runs in turns (one process, best of 3
+alternating, load 3.2): 20 -> 10 increments 3.87 -> 3.25 s, so bai-6.2.2 takes
+``order_increments`` 10. bai-6.1.2 gains on none (24 cells fibrous 2.89 -> 3.83 / 4.19 / 4.20
+s, 2 -> 4 / 5 / 5 cuts).
 """
 
 from __future__ import annotations

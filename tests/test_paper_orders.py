@@ -185,25 +185,24 @@ def test_a_gripped_corner_is_lifted_as_one_patch():
 
 
 @pytest.mark.parametrize("kinematics", [pytest.param("fibrous", marks=pytest.mark.slow), "mindlin"])
-@pytest.mark.parametrize("name", ["bai-6.1.1", "bai-6.2.1"])
+@pytest.mark.parametrize("name", ["bai-6.1.1", "bai-6.2.1", "bai-6.2.2"])
 def test_the_refinement_runs_shorter_path_reaches_the_same_equilibrium(name, kinematics):
     """The corner cases solve the orders' other meshes on ``order_increments`` arc-length
     increments a phase, fewer than their own runs' ``increments``, as only the last
-    equilibrium is read (validation.paper.refinement_orders): on 10 cells (a mesh of the
-    default and the fine sequences) both paths end converged at the same equilibrium. The
-    nodes within 1e-6 of the 40-mm lift (4e-5 mm): each path's last state is converged to
-    Newton's tolerance, measured at most 7.4e-10 (fibrous) and 3.4e-11 (Mindlin) of the compared
-    quantities apart; a path that left the branch (a missed limit point) would part them by
-    millimetres."""
-    from validation.cases import bai_6_1_1, bai_6_2_1
+    equilibrium is read (validation.paper.refinement_orders): on the coarsest mesh of the
+    default sequence (10 cells; bai-6.2.2's 6, its limit point passed on either path) both
+    paths end converged at the same equilibrium. The nodes within 4e-5 mm: each path's last
+    state is converged to Newton's tolerance, measured at most 7.4e-10 (fibrous) and 3.4e-11
+    (Mindlin) of the compared quantities apart (bai-6.2.2: 2.3e-10, 3.6e-16); a path that left
+    the branch (a missed limit point) would part them by millimetres."""
+    from validation.cases import bai_6_1_1, bai_6_2_1, bai_6_2_2
 
-    spec = {"bai-6.1.1": bai_6_1_1, "bai-6.2.1": bai_6_2_1}[name].SPEC
+    spec = {"bai-6.1.1": bai_6_1_1, "bai-6.2.1": bai_6_2_1, "bai-6.2.2": bai_6_2_2}[name].SPEC
     assert spec.order_increments is not None and spec.order_increments < spec.increments
-    specimen = spec.make_specimen(10)
+    specimen = spec.make_specimen(spec.order_cells["default"][0])
     ends = []
     for increments in (spec.increments, spec.order_increments):
-        model = specimens.build(specimen, kinematics, spec.fabric, spec.displacement)
-        result, note, _ = solve(model, increments)
+        result, note, _ = solve(spec.model(specimen, kinematics), increments)
         assert result.converged, note
         ends.append(result)
     np.testing.assert_allclose(ends[1].positions, ends[0].positions, rtol=0, atol=4e-5)
