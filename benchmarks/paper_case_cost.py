@@ -14,7 +14,9 @@ Usage (from this tree's root; the reference tree's numba cache warmed first, ``-
 
     git archive REF | tar -x -C /tmp/reference
     NUMBA_NUM_THREADS=1 python benchmarks/paper_case_cost.py --reference /tmp/reference \\
-        [--cases a,b] [--turns 2] [--warm]
+        [--cases paper|others|a,b] [--turns 2] [--warm] [--moved]
+
+``--moved`` lists every number that moved (largest relative change first) and every text.
 
 Measured (main ad9d75b from git archive beside this tree, one thread, best of 2
 alternating turns, 2 cores shared with other jobs, load 5.2-8.5; case CPU s, reference ->
@@ -35,6 +37,40 @@ bai-6.1.2 7.36 -> 7.45, bai-6.2.1 8.43 -> 8.30, bai-6.2.2 7.16 -> 7.13,
 bai-6.1.1-sensitivity 3.75 -> 3.67, plies-bai-5.1 12.49 -> 12.74, plies-deck-of-cards 7.52
 -> 7.42, plies-heavy-cantilever 2.94 -> 2.99: 65.69 -> 66.04 s (1.005, within the load's
 spread); every results.json number the same bits (5496 of them).
+
+Where the CPU of the report's static cases goes (main fcee482, each case computed and drawn
+twice in one process, the second time kept: numba's cache loads and the imports, 0.9 s and
+1.3 s a report worker, paid once; one thread, load 2.2-2.5; CPU s). Every case's computation
+is its solves, but heavy-cantilever-nonlinear's: 1.70 s, of it 0.64 in its eight Static runs
+and about 1.0 in the heavy elastica's references (scipy's solve_bvp, about 57 ms a solve of
+the bilinear law; Peirce's test of it 0.85 s, of the linear law 0.06). The paper cases, 4.9
+to 6.8 s each, seven Static arc-length runs: the fibrous run on the finest mesh of the orders
+is the largest, 2.5-3.7 s (40-76 ms a Newton iteration: the supernodal LDL^T about half, the
+fibrous Hessian kernels a quarter); their renders 1.2-1.8 s (four figures of 0.2-0.5 s each,
+most of it the constrained layout's and the drawing's text; the three XDMF series 0.15 s).
+plies-bai-5.1 10.8 s: the plies' Static 9.3 s (398 Newton iterations, 403 tangents: 23 ms
+an iteration, of it the band LDL^T 10 ms, the tangent 10, the line search's forces 6; the
+residual falls and rises again as contact points come and go, 15-34 iterations an increment
+of the displacement), its fibrous and Mindlin runs 0.90 and 0.46 s, the very runs bai-5.1
+makes (the same increments, iterations, cuts and tangents; the two cases run in separate
+workers). plies-deck-of-cards 6.4 s in eight Static runs (the 8-ply deck 2.6 s: 174
+iterations in 4 increments; the 8-ply stack's sag 1.9 s); plies-heavy-cantilever 1.6 s (the
+plies 1.3 s); mindlin-pinched-cylinder 1.55 s (five meshes, two Newton iterations each, 0.85
+s on 4225 nodes). The rest of the report's cases but the forming runs 0.1-0.8 s each. Inside a
+case no model is built twice and no solve repeated, but Peirce's test's (below); no Python
+glue of note round the kernels (elements/jit.py's wrappers 0.2 s of plies-bai-5.1's 17 s
+under cProfile).
+
+References, and bai-6.2.2's orders (fcee482 from git archive beside this tree, ``--cases
+bai-6.2.2,heavy-cantilever-nonlinear --warm``, best of 2 alternating turns, one thread,
+load 3.2-4.6; case CPU s): heavy-cantilever-nonlinear 2.46 -> 2.25 (Peirce's test solving
+each overhang it tries once, validation/references/elastica.py: 15 -> 11 solves of the
+bilinear law, 9 -> 5 of the linear one), its 85 numbers the same bits; bai-6.2.2 7.51 -> 7.09
+(7.02 -> 6.44 in a third turn, load 4.7; its orders' other meshes on 10 arc-length increments
+a phase instead of 20, benchmarks/paper_refinement.py), 25 of its 866 numbers moved: the
+Newton iterations in all (``steps``) 816 -> 725, the orders' values, orders and extrapolations
+and their two checks' values by at most 1.4e-7 relative (a check's error 0.0026033160 ->
+0.0026033157 against its tolerance 0.01), the texts the same.
 """
 
 from __future__ import annotations
@@ -57,6 +93,14 @@ CASES = (
     "bai-6.2.1",
     "bai-6.2.2",
     "bai-6.1.1-sensitivity",
+)
+# ``--cases others``: the report's other static cases of more than a second of CPU.
+OTHERS = (
+    "plies-bai-5.1",
+    "plies-deck-of-cards",
+    "plies-heavy-cantilever",
+    "heavy-cantilever-nonlinear",
+    "mindlin-pinched-cylinder",
 )
 # results.json keys that hold times (their values differ from run to run).
 TIMED = re.compile(r"time|cpu|wall|elapsed")
@@ -121,16 +165,39 @@ def compare(before: dict[str, Any], after: dict[str, Any]) -> tuple[float, int, 
     return largest, numbers, moved, other
 
 
+def changes(before: dict[str, Any], after: dict[str, Any]) -> list[tuple[str, Any, Any]]:
+    """The leaves (path, before, after) that differ between two results.json entries, the
+    numbers by their relative change, largest first, then the texts (None: a leaf of one
+    entry alone)."""
+    a, b = leaves(before), leaves(after)
+    found = [(key, a.get(key), b.get(key)) for key in sorted(set(a) | set(b))]
+    nan = lambda v: isinstance(v, float) and math.isnan(v)  # noqa: E731
+    found = [(key, x, y) for key, x, y in found if x != y and not (nan(x) and nan(y))]
+
+    def size(item: tuple[str, Any, Any]) -> float:
+        _, x, y = item
+        if isinstance(x, int | float) and isinstance(y, int | float) and max(abs(x), abs(y)):
+            return abs(y - x) / max(abs(x), abs(y))
+        return math.inf
+
+    return sorted(found, key=size, reverse=True)
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--reference", required=True, help="the reference tree's root")
-    parser.add_argument("--cases", default=",".join(CASES))
+    parser.add_argument(
+        "--cases", default="paper", help='"paper" (CASES), "others" (OTHERS) or names a,b'
+    )
     parser.add_argument("--resolution", default="default")
     parser.add_argument("--turns", type=int, default=2)
     parser.add_argument("--warm", action="store_true", help="run each case once first")
+    parser.add_argument(
+        "--moved", action="store_true", help="list each number and text that differs"
+    )
     args = parser.parse_args()
     trees = {"reference": Path(args.reference).resolve(), "this": Path.cwd().resolve()}
-    names = args.cases.split(",")
+    names = {"paper": list(CASES), "others": list(OTHERS)}.get(args.cases) or args.cases.split(",")
     print(f"reference {trees['reference']}, this {trees['this']}; load {_load()}", flush=True)
     if args.warm:
         for name in names:
@@ -160,6 +227,9 @@ def main() -> None:
             f"{name:24s} {before:9.2f} {after:7.2f} {after / before:6.3f}  {numbers} numbers, "
             f"{moved} moved (largest relative {largest:.1e}), {other} texts differ"
         )
+        if args.moved:
+            for key, x, y in changes(kept["reference", name], kept["this", name]):
+                print(f"    {key}: {x!r} -> {y!r}")
     print(f"{'all':24s} {totals[0]:9.2f} {totals[1]:7.2f} {totals[1] / totals[0]:6.3f}")
 
 
