@@ -351,12 +351,16 @@ def _heavy_bvp(law: MomentCurvature, length: float, weight: float, shear: float,
     return solve_bvp(rhs, bc, t, guess, fun_jac=jac, bc_jac=bc_jac, tol=tol, max_nodes=200000)
 
 
+# solve_bvp's tolerance of ``heavy_cantilever_law`` and of Peirce's test (see ``tol`` there).
+HEAVY_TOLERANCE = 1e-8
+
+
 def heavy_cantilever_law(
     length: float,
     weight: float,
     law,
     points: int = 401,
-    tol: float = 1e-8,
+    tol: float = HEAVY_TOLERANCE,
     shear_stiffness: float | None = None,
 ) -> dict:
     """Shape of a heavy inextensible cantilever with a non-linear bending law M(kappa).
@@ -538,7 +542,7 @@ def peirce_overhang(
 
     def solution(overhang: float):
         if overhang not in solved:
-            solved[overhang] = _heavy_solution(overhang, weight, response, 0.0, 1e-8)
+            solved[overhang] = _heavy_solution(overhang, weight, response, 0.0, HEAVY_TOLERANCE)
         return solved[overhang]
 
     def miss(overhang: float) -> float:
