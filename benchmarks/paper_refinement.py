@@ -33,6 +33,16 @@ increments, 2 -> 2 / 4 / 3 cuts), 1.1e-9 / 1.3e-15 / 4.2e-11 apart; Mindlin 0.73
 alternating, load 3.2): 20 -> 10 increments 3.87 -> 3.25 s, so bai-6.2.2 takes
 ``order_increments`` 10. bai-6.1.2 gains on none (24 cells fibrous 2.89 -> 3.83 / 4.19 / 4.20
 s, 2 -> 4 / 5 / 5 cuts).
+
+Until then the runs here took Static's default arc-length settings, not the case's own
+``arc_iterations`` and ``arc_chords`` (bai-5.1's 10 and 0, the others' the defaults): the
+bai-5.1 figures above are of that other path. With its own (one run each, load 2.2-2.5; 10 ->
+20 / 5 increments): 15 cells fibrous 0.94 (the process's first run) -> 0.49 / 0.59 s (5 -> 4 /
+7 cuts), Mindlin 0.26 -> 0.24 / 0.26; 60 cells fibrous 1.37 -> 1.25 / 1.74 (4 -> 3 / 7 cuts,
+195 -> 171 / 241 tangents), Mindlin 0.51 -> 0.48 / 0.65; at most 1.6e-11 apart (on 7 and 15,
+without its settings, none faster). The four runs in turns (one process, best of 3
+alternating, load 2.4): 10 -> 20 increments 2.48 -> 2.27 s, so bai-5.1 takes
+``order_increments`` 20, more than its own runs' 10.
 """
 
 from __future__ import annotations
@@ -70,7 +80,7 @@ def measure(name: str, resolution: str, counts: list[int]) -> None:
             for increments in [spec.increments, *counts]:
                 model = spec.model(specimen, kinematics)
                 started = time.process_time()
-                result, note, _ = solve(model, increments)
+                result, note, _ = solve(model, increments, spec.arc_iterations, spec.arc_chords)
                 cpu = time.process_time() - started
                 sides = side_data(result, specimen, kinematics, h)
                 found = order_quantities(sides, kinematics, h)

@@ -185,28 +185,33 @@ def test_a_gripped_corner_is_lifted_as_one_patch():
 
 
 @pytest.mark.parametrize("kinematics", [pytest.param("fibrous", marks=pytest.mark.slow), "mindlin"])
-@pytest.mark.parametrize("name", ["bai-6.1.1", "bai-6.2.1", "bai-6.2.2"])
-def test_the_refinement_runs_shorter_path_reaches_the_same_equilibrium(name, kinematics):
-    """The corner cases solve the orders' other meshes on ``order_increments`` arc-length
-    increments a phase, fewer than their own runs' ``increments``, as only the last
+@pytest.mark.parametrize("name", ["bai-5.1", "bai-6.1.1", "bai-6.2.1", "bai-6.2.2"])
+def test_the_refinement_runs_other_path_reaches_the_same_equilibrium(name, kinematics):
+    """The paper cases solve the orders' other meshes on ``order_increments`` arc-length
+    increments a phase, other than their own runs' ``increments`` (fewer for the corner
+    cases, more for bai-5.1, whose shorter first steps are cut less), as only the last
     equilibrium is read (validation.paper.refinement_orders): on the coarsest mesh of the
-    default sequence (10 cells; bai-6.2.2's 6, its limit point passed on either path) both
-    paths end converged at the same equilibrium. The nodes within 4e-5 mm: each path's last
-    state is converged to Newton's tolerance, measured at most 7.4e-10 (fibrous) and 3.4e-11
-    (Mindlin) of the compared quantities apart (bai-6.2.2: 2.3e-10, 3.6e-16); a path that left
-    the branch (a missed limit point) would part them by millimetres."""
-    from validation.cases import bai_6_1_1, bai_6_2_1, bai_6_2_2
+    default sequence (10 cells; bai-6.2.2's 6, its limit point passed on either path; bai-5.1's
+    15) both paths end converged at the same equilibrium. The nodes within 4e-5 mm: each
+    path's last state is converged to Newton's tolerance, measured at most 7.4e-10 (fibrous)
+    and 3.4e-11 (Mindlin) of the compared quantities apart (bai-6.2.2: 2.3e-10, 3.6e-16;
+    bai-5.1: 3.7e-12, 3.0e-15); a path that left the branch (a missed limit point) would part
+    them by millimetres."""
+    from validation.cases import bai_5_1, bai_6_1_1, bai_6_2_1, bai_6_2_2
 
-    spec = {"bai-6.1.1": bai_6_1_1, "bai-6.2.1": bai_6_2_1, "bai-6.2.2": bai_6_2_2}[name].SPEC
-    assert spec.order_increments is not None and spec.order_increments < spec.increments
+    modules = {"bai-5.1": bai_5_1, "bai-6.1.1": bai_6_1_1, "bai-6.2.1": bai_6_2_1}
+    spec = {**modules, "bai-6.2.2": bai_6_2_2}[name].SPEC
+    assert spec.order_increments is not None and spec.order_increments != spec.increments
     specimen = spec.make_specimen(spec.order_cells["default"][0])
     ends = []
     for increments in (spec.increments, spec.order_increments):
-        result, note, _ = solve(spec.model(specimen, kinematics), increments)
+        model = spec.model(specimen, kinematics)
+        result, note, _ = solve(model, increments, spec.arc_iterations, spec.arc_chords)
         assert result.converged, note
         ends.append(result)
     np.testing.assert_allclose(ends[1].positions, ends[0].positions, rtol=0, atol=4e-5)
-    assert len(ends[1].frames) < len(ends[0].frames)  # the shorter path
+    if spec.order_increments < spec.increments:
+        assert len(ends[1].frames) < len(ends[0].frames)  # the shorter path
 
 
 @pytest.mark.parametrize("bad", [0, -2, 2.5, True, "5"])
