@@ -67,6 +67,7 @@ import scipy.sparse as sp
 from scipy.spatial import cKDTree
 
 from elements import ply_kernels, ply_projection, ply_springs_kernels
+from elements.kept_bits import same_bits
 from elements.ply_fade import OutlineTree, nearest_segments, outline_segments, stiffness_factor
 from elements.ply_projection import MARGIN, triangle_frames
 from femcore.interaction import SPRINGS_HELD_STEPS
@@ -179,14 +180,11 @@ def reachable_springs(
     if facing.joined is not None:
         past |= facing.joined
         beside &= ~facing.joined
-    rows, ends = outline_segments(block.outline)
+    rows, ends, wedges = _outline(block)
     if len(rows):
         # a point may pass the outline until then where its projection lies within s of it:
         # the point itself within s + |g| of it
         ends_at = y[rows[:, None], ends]  # (E, 2, 3)
-        tree = getattr(block, "_springs_tree", None)
-        if tree is None:
-            tree = block._springs_tree = OutlineTree()
         # only a point facing a triangle with a corner on the outline, or past its edge, lies
         # within s < h of the outline (any other triangle lies a height from it)
         rim = getattr(block, "_rim_triangles", None)
@@ -194,16 +192,21 @@ def reachable_springs(
             on_outline = np.zeros(block.n_nodes, bool)
             on_outline[block.cells[rows[:, None], ends]] = True
             rim = block._rim_triangles = on_outline[block.cells].any(axis=1)
-        asked = np.flatnonzero(rim[facing.triangle] | np.any(weights < 0.0, axis=1))
-        face = facing.face[asked]
-        if ply_projection.COMPILED:  # the same answer, one compiled pass (ply_kernels.py)
-            nearest = ply_kernels.nearest_segments_at(face, ends_at[:, 0], ends_at[:, 1])
+        if ply_projection.COMPILED:  # the same flags, one compiled pass (ply_springs_kernels.py)
+            near_edge = ply_springs_kernels.near_outline(
+                facing.face, facing.triangle, weights, rim, facing.gap, ends_at[:, 0],
+                ends_at[:, 1], s,
+            )  # fmt: skip
         else:
+            tree = getattr(block, "_springs_tree", None)
+            if tree is None:
+                tree = block._springs_tree = OutlineTree()
+            asked = np.flatnonzero(rim[facing.triangle] | np.any(weights < 0.0, axis=1))
+            face = facing.face[asked]
             nearest = nearest_segments(face, ends_at[:, 0], ends_at[:, 1], tree)
-        near_edge = np.zeros(len(weights), bool)
-        near_edge[asked] = _distance(face, ends_at[nearest]) <= s + np.abs(facing.gap[asked])
+            near_edge = np.zeros(len(weights), bool)
+            near_edge[asked] = _distance(face, ends_at[nearest]) <= s + np.abs(facing.gap[asked])
         past |= near_edge
-        wedges = _wedge_corners(block.cells, rows, ends)
         # only a point near an edge can lie beside a wedge: the others are not asked (a
         # point's distance is the tree's whichever others are asked with it)
         edged = np.flatnonzero(near_edge)
@@ -299,11 +302,9 @@ def _node_weights(block, mass, held, size, triangle, delta) -> np.ndarray | None
     mass (equal weights then)."""
     mass = np.asarray(mass, dtype=float)
     nodes = np.concatenate([block.upper, block.lower_nodes])
-    if len(mass) != block.n_nodes or not np.all(np.isfinite(mass[nodes]) & (mass[nodes] > 0.0)):
+    v = _start_weights(block, mass, nodes)
+    if v is None:
         return None
-    v = np.ones(block.n_nodes)
-    v[nodes] = 1.0 / mass[nodes]
-    v /= v[nodes].max()
     for _ in range(WEIGHT_ITERATIONS):
         load = held * _weighted_reach(block, v, size, triangle, delta)
         loads = block._lumped(load)
@@ -321,6 +322,34 @@ def _node_weights(block, mass, held, size, triangle, delta) -> np.ndarray | None
         scale = ahead.max()
         v[nodes] = np.where(ahead > 0.0, np.maximum(ahead / scale, WEIGHT_FLOOR), v[nodes])
     return v
+
+
+def _start_weights(block, mass: np.ndarray, nodes: np.ndarray) -> np.ndarray | None:
+    """(n,) the weights the power iterations start from, 1 / m at ``nodes`` scaled to a
+    largest of 1 (1 elsewhere), or None where a node of the block has no positive finite
+    mass. Kept with the masses' bits (the solver hands down the same masses every tenth
+    step): a copy of the kept weights where ``mass`` is the same, the same numbers."""
+    kept = getattr(block, "_kept_start_weights", None)
+    if kept is not None and same_bits(kept[0], mass):
+        return None if kept[1] is None else kept[1].copy()
+    v = None
+    if len(mass) == block.n_nodes and np.all(np.isfinite(mass[nodes]) & (mass[nodes] > 0.0)):
+        v = np.ones(block.n_nodes)
+        v[nodes] = 1.0 / mass[nodes]
+        v /= v[nodes].max()
+    block._kept_start_weights = (mass.copy(), v)
+    return None if v is None else v.copy()
+
+
+def _outline(block) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(rows (E,), ends (E, 2), wedges (w, 2)) of ``block``'s lower outline
+    (``outline_segments``, ``_wedge_corners``): its cells and outline are fixed when it is
+    bound, so they are found once and kept."""
+    kept = getattr(block, "_springs_outline", None)
+    if kept is None:
+        rows, ends = outline_segments(block.outline)
+        kept = block._springs_outline = (rows, ends, _wedge_corners(block.cells, rows, ends))
+    return kept
 
 
 def _distance(points: np.ndarray, segments: np.ndarray) -> np.ndarray:

@@ -1,16 +1,19 @@
-"""The ply springs' slide and weighted reach compiled (elements/ply_springs.py ``slide``,
-``_weighted_reach``; docs/theory.md §6.2, "The penalty springs"): the fastest point's speed
-against its facing triangle's point plus the plies' depth times both sets' largest angular
-speed, and each point's bound F_p of sum_i |a_i| v_i, each in one serial pass over the
-points.
+"""The ply springs' slide, outline reach and weighted reach compiled (elements/ply_springs.py
+``slide``, ``reachable_springs``' points near the outline, ``_weighted_reach``; docs/theory.md
+§6.2, "The penalty springs"): the fastest point's speed against its facing triangle's point
+plus the plies' depth times both sets' largest angular speed, the points within the slide
+and their gap of the outline's nearest edge, and each point's bound F_p of sum_i |a_i| v_i,
+each in one serial pass over the points.
 
-Their numpy references are ``ply_springs.slide`` and ``_weighted_reach`` with
-``ply_projection.COMPILED = False``: the passes do the same IEEE operations in the same order
-(numpy's ``einsum("pj,pji->pi")`` sums its three terms from the first, ``einsum("pi,pi->p")``
-as (first + last) + middle, a row's ``sum`` from the first, scipy's CSR product row by row
-from 0.0; ``np.clip``, the maxima and the minimum pass NaN as numpy's do; no fused
-multiply-add: numba builds without fastmath), so they give the same numbers to the last bit
-(tests/test_ply_springs.py). Serial: a maximum, and a few hundred points, every tenth step.
+Their numpy references are ``ply_springs.slide``, ``reachable_springs`` and
+``_weighted_reach`` with ``ply_projection.COMPILED = False``: the passes do the same IEEE
+operations in the same order (numpy's ``einsum("pj,pji->pi")`` sums its three terms from the
+first, ``einsum("pi,pi->p")`` as (first + last) + middle, a row's ``sum`` and
+``np.linalg.norm(axis=1)``'s squares from the first, scipy's CSR product row by row from 0.0;
+``np.clip``, the maxima and the minimum pass NaN as numpy's do; no fused multiply-add: numba
+builds without fastmath), so they give the same numbers to the last bit
+(tests/test_ply_springs.py, tests/test_ply_springs_kernels.py). Serial: a maximum, and a few
+hundred points, every tenth step.
 """
 
 from __future__ import annotations
@@ -19,8 +22,9 @@ import numpy as np
 
 from elements.jit import lanes
 from elements.kernel_inputs import read_only
+from elements.ply_kernels import nearest_segment, segment_lines
 
-__all__ = ["fastest_point", "weighted_reach"]
+__all__ = ["fastest_point", "near_outline", "weighted_reach"]
 
 
 @lanes
@@ -198,5 +202,68 @@ def weighted_reach(
         np.ascontiguousarray(transposed.indptr, dtype=np.int64),
         np.ascontiguousarray(transposed.indices, dtype=np.int64),
         np.ascontiguousarray(transposed.data, dtype=float), float(delta), out,
+    )  # fmt: skip
+    return out
+
+
+@lanes
+def _near(face, triangle, weights, rim, gap, starts, e, squared, slide, out):
+    """out[p] whether point p lies within ``slide`` + |gap[p]| of the outline's nearest edge,
+    asked of the points facing a rim triangle or past an edge of theirs (else False)."""
+    for p in range(face.shape[0]):
+        out[p] = False
+        if not (rim[triangle[p]] or weights[p, 0] < 0.0 or weights[p, 1] < 0.0
+                or weights[p, 2] < 0.0):  # fmt: skip
+            continue
+        f0, f1, f2 = face[p, 0], face[p, 1], face[p, 2]
+        j = nearest_segment(f0, f1, f2, starts, e, squared)
+        r0, r1, r2 = f0 - starts[j, 0], f1 - starts[j, 1], f2 - starts[j, 2]
+        # ply_springs._distance: einsum's (first + last) + middle, np.clip, then the norm's
+        # squares summed from the first
+        t = _clipped((r0 * e[j, 0] + r2 * e[j, 2] + r1 * e[j, 1]) / squared[j], 0.0, 1.0)
+        d0, d1, d2 = r0 - t * e[j, 0], r1 - t * e[j, 1], r2 - t * e[j, 2]
+        out[p] = np.sqrt((d0 * d0 + d1 * d1) + d2 * d2) <= slide + np.abs(gap[p])
+
+
+def near_outline(
+    face: np.ndarray,
+    triangle: np.ndarray,
+    weights: np.ndarray,
+    rim: np.ndarray,
+    gap: np.ndarray,
+    starts: np.ndarray,
+    ends: np.ndarray,
+    slide: float,
+) -> np.ndarray:
+    """(P,) bool: the points that may pass the outline until the next evaluation,
+    ``reachable_springs``' ``near_edge`` to the bit: those facing a triangle with a corner on
+    the outline (``rim``) or past an edge of theirs (a weight below 0) whose face point lies
+    within ``slide`` + |gap| of the outline's nearest edge (``ply_kernels.nearest_segment``:
+    the first of the least distances, the first NaN one).
+
+    Parameters
+    ----------
+    face : (P, 3) float
+        The points on the upper face, mm.
+    triangle : (P,) int
+        Each point's facing triangle.
+    weights : (P, 3) float
+        Its barycentric coordinates on that triangle.
+    rim : (m,) bool
+        The lower triangles with a corner on the outline.
+    gap : (P,) float
+        The points' gaps, mm.
+    starts, ends : (E, 3) float
+        The outline edges' ends, mm (E > 0).
+    slide : float
+        The slide until the next evaluation, mm.
+    """
+    out = np.empty(len(face), dtype=np.bool_)
+    e, squared = segment_lines(starts, ends)
+    # the facing's arrays read-only, as the block keeps them: one build (kernel_inputs.py)
+    _near(
+        read_only(face), read_only(triangle, np.int64), read_only(weights),
+        np.ascontiguousarray(rim, dtype=np.bool_), read_only(gap),
+        np.ascontiguousarray(starts, dtype=float), e, squared, float(slide), out,
     )  # fmt: skip
     return out

@@ -1,0 +1,90 @@
+"""The ply springs' points near the outline in one compiled pass
+(elements/ply_springs_kernels.py ``near_outline``) against the numpy expressions it replaces
+in ``ply_springs.reachable_springs`` (the points facing a rim triangle or past an edge, the
+outline's nearest edge by ``ply_fade.nearest_segments``, the distance by
+``ply_springs._distance``), flag for flag.
+
+The flags compare a distance with the slide plus the gap, so a pass that rounded the distance
+otherwise would differ only at the threshold: each draw puts the threshold exactly on the
+numpy distance of some asked points (their gap 0, the slide that distance), where one ulp
+either way flips the flag. The draws hold NaN weights, gaps and face points, outline edges of
+zero length, ties between edges, and points far off the outline.
+"""
+
+import numpy as np
+import pytest
+
+from elements import ply_springs, ply_springs_kernels
+from elements.ply_fade import OutlineTree, nearest_segments
+
+
+def _numpy_flags(face, triangle, weights, rim, gap, starts, ends, slide):
+    """``reachable_springs``' numpy path for ``near_edge``."""
+    asked = np.flatnonzero(rim[triangle] | np.any(weights < 0.0, axis=1))
+    nearest = nearest_segments(face[asked], starts, ends, OutlineTree())
+    segments = np.stack([starts, ends], axis=1)
+    flags = np.zeros(len(weights), bool)
+    flags[asked] = ply_springs._distance(face[asked], segments[nearest]) <= slide + np.abs(
+        gap[asked]
+    )
+    return flags, asked, nearest
+
+
+def _draw(rng, points=300, triangles=40, edges=25):
+    face = rng.uniform(-10.0, 10.0, (points, 3))
+    triangle = rng.integers(0, triangles, points)
+    weights = rng.uniform(-0.3, 1.0, (points, 3))
+    rim = rng.random(triangles) < 0.4
+    gap = rng.normal(0.0, 0.3, points)
+    starts = rng.uniform(-10.0, 10.0, (edges, 3))
+    ends = starts + rng.normal(0.0, 3.0, (edges, 3))
+    ends[0] = starts[0]  # an edge of zero length
+    starts[1], ends[1] = starts[2], ends[2]  # two edges the same: a tie
+    weights[3, 1] = np.nan
+    gap[4] = np.nan
+    face[5, 2] = np.nan
+    weights[5] = -0.1  # asked, with a NaN face point
+    return face, triangle, weights, rim, gap, starts, ends
+
+
+@pytest.mark.parametrize("seed", range(6))
+def test_the_near_outline_pass_gives_numpy_s_flags_at_the_threshold(seed):
+    rng = np.random.default_rng(seed)
+    face, triangle, weights, rim, gap, starts, ends = _draw(rng)
+    slide = 0.7
+    flags, asked, nearest = _numpy_flags(face, triangle, weights, rim, gap, starts, ends, slide)
+    found = ply_springs_kernels.near_outline(face, triangle, weights, rim, gap, starts, ends, slide)
+    np.testing.assert_array_equal(found, flags)
+    assert 0 < flags.sum() < len(asked) < len(face)  # some near, some asked and far
+    # the threshold on the numpy distance of asked points (gap 0): equal, so near
+    distance = ply_springs._distance(face[asked], np.stack([starts, ends], axis=1)[nearest])
+    finite = np.flatnonzero(np.isfinite(distance))
+    for at in rng.choice(finite, 8, replace=False):
+        gap_at = gap.copy()
+        gap_at[asked[at]] = 0.0
+        flags, _, _ = _numpy_flags(face, triangle, weights, rim, gap_at, starts, ends, distance[at])
+        assert flags[asked[at]]
+        found = ply_springs_kernels.near_outline(
+            face, triangle, weights, rim, gap_at, starts, ends, distance[at]
+        )
+        np.testing.assert_array_equal(found, flags)
+        # one ulp below the distance: not near, in both
+        below = np.nextafter(distance[at], 0.0)
+        flags, _, _ = _numpy_flags(face, triangle, weights, rim, gap_at, starts, ends, below)
+        assert not flags[asked[at]]
+        found = ply_springs_kernels.near_outline(
+            face, triangle, weights, rim, gap_at, starts, ends, below
+        )
+        np.testing.assert_array_equal(found, flags)
+
+
+def test_points_neither_on_the_rim_nor_past_an_edge_are_not_near():
+    """However near the outline, a point facing an inner triangle from inside it is not
+    asked (it lies a height from the outline): False, as the numpy path leaves it."""
+    face = np.zeros((2, 3))
+    starts, ends = np.array([[0.0, 0.0, 0.0]]), np.array([[1.0, 0.0, 0.0]])
+    weights = np.array([[0.2, 0.3, 0.5], [0.2, -0.1, 0.9]])
+    found = ply_springs_kernels.near_outline(
+        face, np.array([0, 0]), weights, np.array([False]), np.zeros(2), starts, ends, 1.0
+    )
+    np.testing.assert_array_equal(found, [False, True])
