@@ -227,7 +227,6 @@ def reachable_springs(
     ring = getattr(block, "_ring", None)
     if ring is None:
         ring = block._ring = ring_matrix(block.cells, block.lower_nodes)
-    corners = block.cells[facing.triangle]
     mass = block.calibrated_mass if mass is None else mass
     v = None if mass is None else _node_weights(block, mass, held, size, facing.triangle, delta)
     if v is None:  # equal weights: sum_i |a_i| <= s_p
@@ -235,12 +234,18 @@ def reachable_springs(
     else:  # sum_i |a_i| v_i over the nodes the point may reach (module docstring, "Weights")
         spread = _weighted_reach(block, v, size, facing.triangle, delta)
     load = held * spread
-    upper = block._lumped(load)[block.upper]
-    at = np.bincount(corners.ravel(), (load[:, None] * size).ravel(), block.n_nodes)[
-        block.lower_nodes
-    ]
-    on_triangles = np.bincount(facing.triangle, load, len(block.cells))
-    lower = at + delta * (ring @ on_triangles)
+    if ply_projection.COMPILED:  # the same sums, one compiled pass (ply_springs_kernels.py)
+        lumped, cornered, ringed = _spread(block, load, size, facing.triangle)
+        upper = lumped[block.upper]
+        lower = cornered[block.lower_nodes] + delta * ringed
+    else:
+        corners = block.cells[facing.triangle]
+        upper = block._lumped(load)[block.upper]
+        at = np.bincount(corners.ravel(), (load[:, None] * size).ravel(), block.n_nodes)[
+            block.lower_nodes
+        ]
+        on_triangles = np.bincount(facing.triangle, load, len(block.cells))
+        lower = at + delta * (ring @ on_triangles)
     if v is not None:
         upper, lower = upper / v[block.upper], lower / v[block.lower_nodes]
     return nodes, np.concatenate([upper, lower])
@@ -307,13 +312,18 @@ def _node_weights(block, mass, held, size, triangle, delta) -> np.ndarray | None
         return None
     for _ in range(WEIGHT_ITERATIONS):
         load = held * _weighted_reach(block, v, size, triangle, delta)
-        loads = block._lumped(load)
-        loads += np.bincount(
-            block.cells[triangle].ravel(), (load[:, None] * size).ravel(), block.n_nodes
-        )
-        loads[block.lower_nodes] += delta * (
-            block._ring @ np.bincount(triangle, load, len(block.cells))
-        )
+        if ply_projection.COMPILED:  # the same sums, one compiled pass (ply_springs_kernels.py)
+            lumped, cornered, ringed = _spread(block, load, size, triangle)
+            loads = lumped + cornered
+            loads[block.lower_nodes] += delta * ringed
+        else:
+            loads = block._lumped(load)
+            loads += np.bincount(
+                block.cells[triangle].ravel(), (load[:, None] * size).ravel(), block.n_nodes
+            )
+            loads[block.lower_nodes] += delta * (
+                block._ring @ np.bincount(triangle, load, len(block.cells))
+            )
         ahead = loads[nodes] / mass[nodes]
         if not ahead.max() > 0.0:
             break
@@ -322,6 +332,25 @@ def _node_weights(block, mass, held, size, triangle, delta) -> np.ndarray | None
         scale = ahead.max()
         v[nodes] = np.where(ahead > 0.0, np.maximum(ahead / scale, WEIGHT_FLOOR), v[nodes])
     return v
+
+
+def _spread(block, load, size, triangle) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The points' loads ``load`` (P,) spread on the nodes (``ply_springs_kernels.
+    spread_loads``): (n,) sum_p N_j load_p at the upper corners (``block._lumped``), (n,) sum_p
+    load_p (|lambda_k| + delta) at the facing corners, (l,) the ring's sum of the loads on
+    each lower node's ring of triangles (``block._ring`` times them per triangle); the ring's
+    arrays kept with it."""
+    ring = block._ring
+    kept = getattr(block, "_ring_arrays", None)
+    if kept is None or kept[0] is not ring:
+        kept = block._ring_arrays = (
+            ring, *(np.ascontiguousarray(a, dtype=np.int64) for a in (ring.indptr, ring.indices)),
+            np.ascontiguousarray(ring.data, dtype=float),
+        )  # fmt: skip
+    return ply_springs_kernels.spread_loads(
+        load, block.shape, block.above, size, block.cells, triangle, kept[1], kept[2], kept[3],
+        block.n_nodes,
+    )  # fmt: skip
 
 
 def _start_weights(block, mass: np.ndarray, nodes: np.ndarray) -> np.ndarray | None:

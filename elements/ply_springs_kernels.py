@@ -24,7 +24,7 @@ from elements.jit import lanes
 from elements.kernel_inputs import read_only
 from elements.ply_kernels import nearest_segment, segment_lines
 
-__all__ = ["fastest_point", "near_outline", "weighted_reach"]
+__all__ = ["fastest_point", "near_outline", "spread_loads", "weighted_reach"]
 
 
 @lanes
@@ -267,3 +267,74 @@ def near_outline(
         np.ascontiguousarray(starts, dtype=float), e, squared, float(slide), out,
     )  # fmt: skip
     return out
+
+
+@lanes
+def _spread(load, shape, above, size, cells, triangle, indptr, indices, data, lumped, at, ring):
+    """The three sums of ``spread_loads`` into ``lumped`` (n,), ``at`` (n,) and ``ring`` (l,),
+    each in numpy's order: bincount adds its weights from zero in the points' order (a row's
+    three after another), scipy's CSR product sums a row from 0.0 in its stored order."""
+    for i in range(lumped.shape[0]):
+        lumped[i] = 0.0
+        at[i] = 0.0
+    on = np.zeros(cells.shape[0])
+    for p in range(load.shape[0]):
+        share, t = load[p], triangle[p]
+        for j in range(3):
+            lumped[above[p, j]] += shape[p, j] * share
+        for k in range(3):
+            at[cells[t, k]] += share * size[p, k]
+        on[t] += share
+    for r in range(indptr.shape[0] - 1):
+        summed = 0.0
+        for k in range(indptr[r], indptr[r + 1]):
+            summed += data[k] * on[indices[k]]
+        ring[r] = summed
+
+
+def spread_loads(
+    load: np.ndarray,
+    shape: np.ndarray,
+    above: np.ndarray,
+    size: np.ndarray,
+    cells: np.ndarray,
+    triangle: np.ndarray,
+    indptr: np.ndarray,
+    indices: np.ndarray,
+    data: np.ndarray,
+    nodes: int,
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The points' loads spread on the nodes in one pass, as ``ply_springs``' numpy writes
+    them (``block._lumped(load)``, ``np.bincount(cells[triangle].ravel(), (load[:, None] *
+    size).ravel(), n)`` and ``ring @ np.bincount(triangle, load, m)``), to the bit.
+
+    Parameters
+    ----------
+    load : (P,) float
+        Each point's load c_p k_p F_p, N/mm.
+    shape, above : (P, 3) float, (P, 3) int
+        Each point's shape functions and upper triangle's corners.
+    size : (P, 3) float
+        |lambda_k| + delta of each point's facing triangle's corners.
+    cells, triangle : (m, 3) int, (P,) int
+        The lower triangles' corners and each point's facing triangle.
+    indptr, indices, data : (l + 1,) int, (z,) int, (z,) float
+        The ring's CSR matrix (l, m) (``ring_matrix``).
+    nodes : int
+        The body's nodes n.
+
+    Returns
+    -------
+    lumped, at : (n,) float
+        sum_p N_j load_p at the upper corners; sum_p load_p size_pk at the facing corners.
+    ring : (l,) float
+        The ring's matrix times the loads summed per triangle.
+    """
+    lumped, at, ring = np.empty(nodes), np.empty(nodes), np.empty(len(indptr) - 1)
+    _spread(
+        np.ascontiguousarray(load, dtype=float), np.ascontiguousarray(shape, dtype=float),
+        np.ascontiguousarray(above, dtype=np.int64), np.ascontiguousarray(size, dtype=float),
+        np.ascontiguousarray(cells, dtype=np.int64), read_only(triangle, np.int64), indptr,
+        indices, data, lumped, at, ring,
+    )  # fmt: skip
+    return lumped, at, ring

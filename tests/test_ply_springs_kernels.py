@@ -1,8 +1,9 @@
-"""The ply springs' points near the outline in one compiled pass
-(elements/ply_springs_kernels.py ``near_outline``) against the numpy expressions it replaces
-in ``ply_springs.reachable_springs`` (the points facing a rim triangle or past an edge, the
-outline's nearest edge by ``ply_fade.nearest_segments``, the distance by
-``ply_springs._distance``), flag for flag.
+"""The ply springs' compiled passes (elements/ply_springs_kernels.py) against the numpy
+expressions they replace in ``ply_springs.reachable_springs`` and ``_node_weights``: the
+points near the outline (``near_outline``: the points facing a rim triangle or past an edge,
+the outline's nearest edge by ``ply_fade.nearest_segments``, the distance by
+``ply_springs._distance``), flag for flag, and the points' loads spread on the nodes
+(``spread_loads``: two bincounts and the ring's CSR product), to the bit.
 
 The flags compare a distance with the slide plus the gap, so a pass that rounded the distance
 otherwise would differ only at the threshold: each draw puts the threshold exactly on the
@@ -88,3 +89,49 @@ def test_points_neither_on_the_rim_nor_past_an_edge_are_not_near():
         face, np.array([0, 0]), weights, np.array([False]), np.zeros(2), starts, ends, 1.0
     )
     np.testing.assert_array_equal(found, [False, True])
+
+
+def _grid_cells(count=4):
+    """The triangles of a count x count grid of squares, two a square (nodes row by row)."""
+    cells = []
+    for i in range(count):
+        for j in range(count):
+            a, b = i * (count + 1) + j, i * (count + 1) + j + 1
+            c, d = a + count + 1, b + count + 1
+            cells += [[a, b, d], [a, d, c]]
+    return np.array(cells)
+
+
+@pytest.mark.parametrize("seed", range(4))
+def test_the_spread_loads_pass_gives_numpy_s_sums_to_the_bit(seed):
+    """``spread_loads`` against ``reachable_springs``' numpy sums (``_lumped``'s and the
+    facing corners' bincounts, the ring's CSR product of the loads per triangle): loads over
+    twelve decades, so that another order of the sums would round otherwise."""
+    rng = np.random.default_rng(seed)
+    cells = _grid_cells()
+    lower_nodes = np.unique(cells)
+    nodes = len(lower_nodes) + 20  # the upper ply's 20 nodes after the lower ones
+    points = 200
+    load = rng.uniform(0.0, 1.0, points) * 10.0 ** rng.uniform(-6, 6, points)
+    shape = rng.dirichlet(np.ones(3), points)
+    above = rng.integers(len(lower_nodes), nodes, (points, 3))
+    size = rng.uniform(0.0, 1.2, (points, 3))
+    triangle = rng.integers(0, len(cells), points)
+    ring = ply_springs.ring_matrix(cells, lower_nodes)
+    lumped, at, ringed = ply_springs_kernels.spread_loads(
+        load, shape, above, size, cells, triangle, ring.indptr.astype(np.int64),
+        ring.indices.astype(np.int64), ring.data.astype(float), nodes,
+    )  # fmt: skip
+    np.testing.assert_array_equal(
+        lumped, np.bincount(above.ravel(), (shape * load[:, None]).ravel(), nodes)
+    )
+    np.testing.assert_array_equal(
+        at, np.bincount(cells[triangle].ravel(), (load[:, None] * size).ravel(), nodes)
+    )
+    np.testing.assert_array_equal(ringed, ring @ np.bincount(triangle, load, len(cells)))
+    # the sums do round: summed in reverse the ring's would differ
+    assert not np.array_equal(
+        ringed, ring @ np.bincount(triangle[::-1], load[::-1], len(cells))
+    ) or not np.array_equal(at, np.bincount(
+        cells[triangle[::-1]].ravel(), (load[::-1, None] * size[::-1]).ravel(), nodes
+    ))  # fmt: skip
