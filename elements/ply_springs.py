@@ -216,14 +216,20 @@ def reachable_springs(
                 facing.face[edged], distance_upper_bound=radius
             )[0]
             beside[edged] |= distance <= radius
-    factor = stiffness_factor(past, beside, reached, faded)
-    # the points that may touch until then: within s of the face, and not past their facing
-    # triangle's reach by more than the slide (a point beside a growth is held by it)
-    counted = (facing.gap < s) & (beside | ~np.any(weights < -(facing.reach + delta), axis=1))
-    # beside a growth the gap's lower weights are its closest point's, within the reach
-    weights = np.where(beside[:, None], np.clip(weights, -MARGIN, 1.0 + 2.0 * MARGIN), weights)
-    size = np.abs(weights) + delta  # (P, 3): |lambda_k| and its move until then
-    held = np.where(counted, block.stiffness * factor, 0.0)  # c_p k_p
+    if ply_projection.COMPILED:  # the same numbers, one compiled pass (ply_springs_kernels.py)
+        size, held = ply_springs_kernels.held_points(
+            past, beside, reached, faded, facing.gap, s, weights, facing.reach, delta,
+            block.stiffness, MARGIN,
+        )  # fmt: skip
+    else:
+        factor = stiffness_factor(past, beside, reached, faded)
+        # the points that may touch until then: within s of the face, and not past their
+        # facing triangle's reach by more than the slide (a point beside a growth is held)
+        counted = (facing.gap < s) & (beside | ~np.any(weights < -(facing.reach + delta), axis=1))
+        # beside a growth the gap's lower weights are its closest point's, within the reach
+        weights = np.where(beside[:, None], np.clip(weights, -MARGIN, 1.0 + 2.0 * MARGIN), weights)
+        size = np.abs(weights) + delta  # (P, 3): |lambda_k| and its move until then
+        held = np.where(counted, block.stiffness * factor, 0.0)  # c_p k_p
     ring = getattr(block, "_ring", None)
     if ring is None:
         ring = block._ring = ring_matrix(block.cells, block.lower_nodes)

@@ -22,9 +22,10 @@ import numpy as np
 
 from elements.jit import lanes
 from elements.kernel_inputs import read_only
+from elements.ply_fade import SIDEWAYS, SIDEWAYS_STIFFNESS
 from elements.ply_kernels import nearest_segment, segment_lines
 
-__all__ = ["fastest_point", "near_outline", "spread_loads", "weighted_reach"]
+__all__ = ["fastest_point", "held_points", "near_outline", "spread_loads", "weighted_reach"]
 
 
 @lanes
@@ -338,3 +339,80 @@ def spread_loads(
         indices, data, lumped, at, ring,
     )  # fmt: skip
     return lumped, at, ring
+
+
+@lanes
+def _held(
+    past, beside, reached, faded, cross, angle, gap, slide, weights, reach, delta, low, high,
+    stiffness, size, held,
+):  # fmt: skip
+    """size[p] (3,) and held[p] of each point (``held_points``), numpy's operations in
+    numpy's order: the fade's factor (ply_fade.stiffness_factor) (angle + (3 cross) x) + (3 x)
+    x, x = reached / faded, in the band or beside, else 1; the weights clipped beside a
+    growth (NaN passes)."""
+    for p in range(weights.shape[0]):
+        x = reached[p] / faded
+        side = angle if beside[p] else 1.0
+        factor = side + (3.0 * cross) * x + (3.0 * x) * x if (past[p] or beside[p]) else 1.0
+        beyond = False
+        for k in range(3):
+            if weights[p, k] < -(reach[p, k] + delta):
+                beyond = True
+            w = _clipped(weights[p, k], low, high) if beside[p] else weights[p, k]
+            size[p, k] = np.abs(w) + delta
+        counted = gap[p] < slide and (beside[p] or not beyond)
+        held[p] = stiffness[p] * factor if counted else 0.0
+
+
+def held_points(
+    past: np.ndarray,
+    beside: np.ndarray,
+    reached: np.ndarray,
+    faded: float,
+    gap: np.ndarray,
+    slide: float,
+    weights: np.ndarray,
+    reach: np.ndarray,
+    delta: float,
+    stiffness: np.ndarray,
+    margin: float,
+) -> tuple[np.ndarray, np.ndarray]:
+    """(size (P, 3), held (P,) N/mm) of ``reachable_springs`` in one pass, to the bit: each
+    point's |lambda_k| + delta (its weights clipped to [-margin, 1 + 2 margin] beside a
+    growth) and c_p k_p where it may touch until the next evaluation (its gap under the
+    slide, and beside a growth or not past its facing triangle's reach by more than delta),
+    else 0; c_p the fade's factor (``ply_fade.stiffness_factor``).
+
+    Parameters
+    ----------
+    past, beside : (P,) bool
+        The points in the fade's band past an outline edge, and beside a growth or a wedge.
+    reached : (P,) float
+        The deepest each point may touch until then, mm.
+    faded : float
+        The fade's length D, mm.
+    gap : (P,) float
+        The points' gaps, mm.
+    slide : float
+        The slide until then, mm.
+    weights, reach : (P, 3) float
+        The barycentric coordinates on the facing triangle and its reach past its edges.
+    delta : float
+        The slide over the least height.
+    stiffness : (P,) float
+        The points' penalties, N/mm.
+    margin : float
+        ``ply_projection.MARGIN``.
+    """
+    count = len(weights)
+    size, held = np.empty((count, 3)), np.empty(count)
+    # as stiffness_factor computes them: numpy's square root, Python's larger
+    cross = float(np.sqrt(1.0 + (0.75 / SIDEWAYS) ** 2))
+    angle = float(max(1.0, SIDEWAYS_STIFFNESS))
+    _held(
+        np.ascontiguousarray(past, dtype=np.bool_), np.ascontiguousarray(beside, dtype=np.bool_),
+        np.ascontiguousarray(reached, dtype=float), float(faded), cross, angle, read_only(gap),
+        float(slide), read_only(weights), read_only(reach), float(delta), -float(margin),
+        1.0 + 2.0 * float(margin), np.ascontiguousarray(stiffness, dtype=float), size, held,
+    )  # fmt: skip
+    return size, held

@@ -3,7 +3,8 @@ expressions they replace in ``ply_springs.reachable_springs`` and ``_node_weight
 points near the outline (``near_outline``: the points facing a rim triangle or past an edge,
 the outline's nearest edge by ``ply_fade.nearest_segments``, the distance by
 ``ply_springs._distance``), flag for flag, and the points' loads spread on the nodes
-(``spread_loads``: two bincounts and the ring's CSR product), to the bit.
+(``spread_loads``: two bincounts and the ring's CSR product) and their sizes and loads
+(``held_points``: the fade's factor, the points counted, the clipped weights), to the bit.
 
 The flags compare a distance with the slide plus the gap, so a pass that rounded the distance
 otherwise would differ only at the threshold: each draw puts the threshold exactly on the
@@ -135,3 +136,35 @@ def test_the_spread_loads_pass_gives_numpy_s_sums_to_the_bit(seed):
     ) or not np.array_equal(at, np.bincount(
         cells[triangle[::-1]].ravel(), (load[::-1, None] * size[::-1]).ravel(), nodes
     ))  # fmt: skip
+
+
+@pytest.mark.parametrize("seed", range(4))
+def test_the_held_points_pass_gives_numpy_s_sizes_and_loads_to_the_bit(seed):
+    """``held_points`` against ``reachable_springs``' numpy (the fade's factor by
+    ``ply_fade.stiffness_factor``, the points counted, the weights clipped beside a growth,
+    |lambda| + delta and c_p k_p), with NaN weights, gaps and depths, points on the slide's
+    threshold and on the reach's."""
+    from elements.ply_fade import stiffness_factor
+    from elements.ply_projection import MARGIN
+
+    rng = np.random.default_rng(seed)
+    points, slide, delta, faded = 400, 0.3, 0.05, 1.7
+    past, beside = rng.random(points) < 0.3, rng.random(points) < 0.2
+    reached = rng.uniform(0.1, 3.0, points)
+    gap = rng.normal(0.0, 0.5, points)
+    weights = rng.uniform(-0.5, 1.3, (points, 3))
+    reach = rng.uniform(0.0, 0.3, (points, 3))
+    stiffness = rng.uniform(1.0, 1e4, points)
+    gap[:10] = slide  # on the threshold: not counted
+    weights[10:20, 0] = -(reach[10:20, 0] + delta)  # on the reach: counted
+    weights[20, 1], gap[21], reached[22] = np.nan, np.nan, np.nan
+    beside[20] = True
+    factor = stiffness_factor(past, beside, reached, faded)
+    counted = (gap < slide) & (beside | ~np.any(weights < -(reach + delta), axis=1))
+    clipped = np.where(beside[:, None], np.clip(weights, -MARGIN, 1.0 + 2.0 * MARGIN), weights)
+    size, held = ply_springs_kernels.held_points(
+        past, beside, reached, faded, gap, slide, weights, reach, delta, stiffness, MARGIN
+    )
+    np.testing.assert_array_equal(size, np.abs(clipped) + delta)
+    np.testing.assert_array_equal(held, np.where(counted, stiffness * factor, 0.0))
+    assert 0 < counted.sum() < points and np.isnan(size[20, 1])
