@@ -330,6 +330,63 @@ facing's two, the faces', the lists' moves, the offsets' direction, the friction
 the friction's return mapping; fusing them into one pass needs the kept lists' renewal (a
 search, with numpy's cut growths) and numpy's ``arctan2`` (kept for its bits,
 elements/ply_edge_kernels.py) out of the way first.
+
+Ninth round, the step's glue outside the ply contacts' history (``--reference`` now also
+times the stable step, ``CentralDifference._step_size``, and prints the whole run less the
+history: "the rest"). Where it went (``--split --kinematics mindlin``, main fcee482, load
+2.8, 1.784 ms a step with the timers): the committed history 0.845 (another cut's), the step
+0.674 (the forces 0.437 a call at 0.9 calls: the ply loads 0.200, of it the compiled pass
+``_loads`` about 23 us of the 68 a call, the edge couples and numpy's cube kept for its bits
+the most of the rest; the tools 0.189, the die's and the holder's closest facets 0.158 of
+it, their compiled searches most of that; the energy check's pass 0.084 every tenth step;
+the tools' work 0.045, the rotations 0.030, the rates 0.029, the loads 0.028), the stable
+step 0.131 (the two ply blocks' ``springs_at`` 583 us a call, two every tenth step: numpy's
+glue round four compiled calls). The one-ply hemisphere (``--case hemisphere-forming
+--kinematics mindlin``, load 2.4, 0.460 ms a step with the timers): the step 0.406, the
+tools 0.160 of it (the die's ``surface_forces`` 107 us a call, its closest facets' kernel 46
+and the lists' upkeep 28 of them), the energy pass 0.047, the rotations 0.034, the tools'
+work 0.033, the rates 0.024, the stable step 0.011. The cuts, each giving the same bits:
+
+* the ply springs (elements/ply_springs.py, ply_springs_kernels.py): the points near the
+  outline (``near_outline``), their sizes and held loads (``held_points``) and the loads
+  spread on the nodes (``spread_loads``, in the power iteration and the springs' sums) in
+  compiled passes, the outline's segments and wedge corners found once per block and the
+  iteration's first weights kept with the masses' bits: 339-367 -> 161-186 us a call
+  (benchmarks/ply_springs_speed.py, 100 calls replayed, load 3.3); the springs the same to
+  the bit;
+* the holder's force amplitude of a float by Python's comparisons, numpy's clip of one
+  number to the bit (validation/studies/hemisphere_plies_setup.py), asked every step:
+  ``external_load`` of the two-ply model 4.9-5.4 -> 1.8-2.1 us a call (2000 calls, best of
+  7, the trees alternately, load 1.8-1.9; the split's 0.028 ms a step is mostly its timer);
+* a frictionless tool contact's stored energy without the friction's zero arrays
+  (``ContactBlock.strain_energy``: 0 / k_t is +0, the same number): the three tools of the
+  two-ply hemisphere 146 -> 119 us every tenth step.
+
+Beside main fcee482 (``git archive``; one numba thread, CPU, alternately, the first of each
+round in turn, load 2.4-2.9, other jobs on the machine):
+
+* ``--reference --kinematics mindlin``, the two-ply Mindlin [0/90] run, 32225 steps, best of
+  3: 1.440 -> 1.383 ms a step (x 1.04; whole runs 46.40, 50.26, 50.10 s against 44.57,
+  45.58, 45.87 s); the ply history 0.704 -> 0.702 (untouched: the noise); the rest 0.736 ->
+  0.681 (x 1.08), of it the stable step 0.1042 -> 0.0663 (x 1.57, 3.36-3.78 -> 2.14-2.29 s
+  a run); the same steps and final positions and directors to the bit (and in an earlier
+  comparison of three rounds at load 2.4-4.0);
+* ``--reference --case hemisphere-forming --kinematics mindlin``, the one-ply Mindlin run,
+  46967 steps: 0.376 -> 0.385 ms a step (best of 3, load 2.4-2.7), 0.428 -> 0.445 (best of 2,
+  load 1.9-3.4; whole runs 17.67-20.97 s against 18.08-21.14 s): the noise, the only cut it
+  meets being the energy check's contact energies (about 1 us a step); the same steps and
+  final positions and directors to the bit;
+* ``python -m validation --cases hemisphere-forming --resolution coarse --jobs 1``, both
+  trees: results.json the same in all its 94 numbers but the times and loads (5/5 checks).
+
+What is left outside the history is numpy and Python round compiled passes: the ply loads'
+pass (some 30 arguments; the edge couples' and numpy's cube beside it), the tools' forces
+(compiled searches and passes: the closest facets are the die's own work), the energy
+check's contact energies (numpy's distance, whose bits the compiled force passes do not
+give), the tools' work and the records (a few us each). Not done: a rule renewing the
+springs only when the contact sets change (the steps' sizes, hence every bit of the run,
+would move); the KD-tree of the wedge corners in the springs (scipy's own distances and
+bound to match).
 """
 
 from __future__ import annotations
@@ -372,10 +429,22 @@ def timed_history(self, state, history):
     finally:
         history_cpu[0] += time.process_time() - begin
 PlyContactBlock.update_history = timed_history
+# the stable step (every tenth step: the cells' bound and the contacts' penalty springs)
+from solvers.explicit import CentralDifference as _Solver
+step_cpu = [0.0]
+step_size = _Solver._step_size
+def timed_step_size(self, *args, **kwargs):
+    begin = time.process_time()
+    try:
+        return step_size(self, *args, **kwargs)
+    finally:
+        step_cpu[0] += time.process_time() - begin
+_Solver._step_size = timed_step_size
 start = time.process_time()
 result = solver.solve(model.compile())
 cpu = time.process_time() - start
 print(json.dumps({"cpu": cpu, "steps": result.steps, "history": history_cpu[0],
+                  "step_size": step_cpu[0],
                   "positions": result.positions.tolist(),
                   "directors": result.frames[-1].directors.tolist()}))
 """
@@ -551,6 +620,8 @@ def main() -> None:
     trees = {"reference": args.reference.resolve(), "this": HERE}
     best: dict[str, float] = {name: np.inf for name in trees}
     history: dict[str, float] = {name: np.inf for name in trees}
+    stable: dict[str, float] = {name: np.inf for name in trees}
+    rest: dict[str, float] = {name: np.inf for name in trees}
     ends: dict[str, dict] = {}
     for round_ in range(args.repeats):
         # alternating, the first tree of each round in turn
@@ -559,8 +630,12 @@ def main() -> None:
             ran = run_in(trees[name], args.case, args.kinematics, args.layup, args.cells)
             best[name] = min(best[name], ran["cpu"] / ran["steps"] * 1e3)
             history[name] = min(history[name], ran["history"] / ran["steps"] * 1e3)
+            stable[name] = min(stable[name], ran["step_size"] / ran["steps"] * 1e3)
+            outside = ran["cpu"] - ran["history"]
+            rest[name] = min(rest[name], outside / ran["steps"] * 1e3)
             print(f"  {name}: {ran['cpu']:.2f} s CPU, {ran['steps']} steps, the ply "
-                  f"contacts' history {ran['history']:.2f} s", flush=True)  # fmt: skip
+                  f"contacts' history {ran['history']:.2f} s, the rest {outside:.2f} s, the "
+                  f"stable step {ran['step_size']:.2f} s", flush=True)  # fmt: skip
             ends[name] = ran
     same = ends["this"]["steps"] == ends["reference"]["steps"] and all(
         np.array_equal(
@@ -568,13 +643,18 @@ def main() -> None:
         )
         for key in ("positions", "directors")
     )
+
+    def times(label: str, parts: dict[str, float], digits: int = 3) -> str:
+        # (a case without ply contacts times no history: no ratio of zeros)
+        ratio = parts["reference"] / parts["this"] if parts["this"] > 0.0 else float("nan")
+        return (f"{label} reference {parts['reference']:.{digits}f}, this "
+                f"{parts['this']:.{digits}f} (x {ratio:.2f})")  # fmt: skip
+
     print(f"{args.case}, {args.kinematics} [{args.layup}], {args.cells} cells, "
-          f"{ends['this']['steps']} steps: "
-          f"ms a step (best of {args.repeats}, CPU) reference {best['reference']:.3f}, this "
-          f"{best['this']:.3f} (x {best['reference'] / best['this']:.2f}); the ply contacts' "
-          f"history reference {history['reference']:.3f}, this {history['this']:.3f} ms a "
-          f"step (x {history['reference'] / history['this']:.2f}); the same steps and final "
-          f"positions and directors to the bit: {same} "
+          f"{ends['this']['steps']} steps, ms a step (best of {args.repeats}, CPU): "
+          f"{times('the whole', best)}; {times('the ply history', history)}; "
+          f"{times('the rest', rest)}, {times('of it the stable step', stable, 4)}; the same "
+          f"steps and final positions and directors to the bit: {same} "
           f"(load {os.getloadavg()[0]:.1f})")  # fmt: skip
 
 

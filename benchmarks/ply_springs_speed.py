@@ -32,8 +32,21 @@ Measured (main cfaff59 as the reference, one thread, 2 cores shared with other j
   face, 0.16 -> 0.08 on the flat facets (load 4.4); Mindlin [0/45] 0.95 -> 0.35 and 0.23 ->
   0.11 (load 7.4); the same gaps to the bit.
 
+Then (main fcee482 as the reference, one thread, load 3.3): the points near the outline,
+their sizes and loads and the loads spread on the nodes in compiled passes
+(elements/ply_springs_kernels.py ``near_outline``, ``held_points``, ``spread_loads``), the
+outline's segments and wedge corners and the power iteration's first weights kept: Mindlin
+[0/90], 100 calls of the first 0.6 of the run, 339-367 -> 161-186 us a call (x 2.0-2.1), the
+same springs to the bit. Where the 480 us a call went before (a timer round each statement,
+200 calls replayed, load 2.2): the points near the outline 154 us (the asked points'
+gathers, the nearest edges' pass, numpy's distance and scatter; the wedges' KD-tree), the
+nodes' weights 98 (their checks and first weights, three bincounts and scipy's product),
+the slide 32, the fade's factor, the points counted and their sizes 52, F_p 21, the least
+height 22. What is left: the KD-tree of the wedge corners (its build is most of the outline's
+part), the slide's and F_p's passes, and numpy's glue of a dozen small arrays.
+
 What they give the report's hemisphere-plies case: benchmarks/forming_step_overhead.py,
-"Sixth round".
+"Sixth round" and "Ninth round".
 """
 
 from __future__ import annotations

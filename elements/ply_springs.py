@@ -67,6 +67,7 @@ import scipy.sparse as sp
 from scipy.spatial import cKDTree
 
 from elements import ply_kernels, ply_projection, ply_springs_kernels
+from elements.kept_bits import same_bits
 from elements.ply_fade import OutlineTree, nearest_segments, outline_segments, stiffness_factor
 from elements.ply_projection import MARGIN, triangle_frames
 from femcore.interaction import SPRINGS_HELD_STEPS
@@ -179,14 +180,11 @@ def reachable_springs(
     if facing.joined is not None:
         past |= facing.joined
         beside &= ~facing.joined
-    rows, ends = outline_segments(block.outline)
+    rows, ends, wedges = _outline(block)
     if len(rows):
         # a point may pass the outline until then where its projection lies within s of it:
         # the point itself within s + |g| of it
         ends_at = y[rows[:, None], ends]  # (E, 2, 3)
-        tree = getattr(block, "_springs_tree", None)
-        if tree is None:
-            tree = block._springs_tree = OutlineTree()
         # only a point facing a triangle with a corner on the outline, or past its edge, lies
         # within s < h of the outline (any other triangle lies a height from it)
         rim = getattr(block, "_rim_triangles", None)
@@ -194,16 +192,21 @@ def reachable_springs(
             on_outline = np.zeros(block.n_nodes, bool)
             on_outline[block.cells[rows[:, None], ends]] = True
             rim = block._rim_triangles = on_outline[block.cells].any(axis=1)
-        asked = np.flatnonzero(rim[facing.triangle] | np.any(weights < 0.0, axis=1))
-        face = facing.face[asked]
-        if ply_projection.COMPILED:  # the same answer, one compiled pass (ply_kernels.py)
-            nearest = ply_kernels.nearest_segments_at(face, ends_at[:, 0], ends_at[:, 1])
+        if ply_projection.COMPILED:  # the same flags, one compiled pass (ply_springs_kernels.py)
+            near_edge = ply_springs_kernels.near_outline(
+                facing.face, facing.triangle, weights, rim, facing.gap, ends_at[:, 0],
+                ends_at[:, 1], s,
+            )  # fmt: skip
         else:
+            tree = getattr(block, "_springs_tree", None)
+            if tree is None:
+                tree = block._springs_tree = OutlineTree()
+            asked = np.flatnonzero(rim[facing.triangle] | np.any(weights < 0.0, axis=1))
+            face = facing.face[asked]
             nearest = nearest_segments(face, ends_at[:, 0], ends_at[:, 1], tree)
-        near_edge = np.zeros(len(weights), bool)
-        near_edge[asked] = _distance(face, ends_at[nearest]) <= s + np.abs(facing.gap[asked])
+            near_edge = np.zeros(len(weights), bool)
+            near_edge[asked] = _distance(face, ends_at[nearest]) <= s + np.abs(facing.gap[asked])
         past |= near_edge
-        wedges = _wedge_corners(block.cells, rows, ends)
         # only a point near an edge can lie beside a wedge: the others are not asked (a
         # point's distance is the tree's whichever others are asked with it)
         edged = np.flatnonzero(near_edge)
@@ -213,18 +216,23 @@ def reachable_springs(
                 facing.face[edged], distance_upper_bound=radius
             )[0]
             beside[edged] |= distance <= radius
-    factor = stiffness_factor(past, beside, reached, faded)
-    # the points that may touch until then: within s of the face, and not past their facing
-    # triangle's reach by more than the slide (a point beside a growth is held by it)
-    counted = (facing.gap < s) & (beside | ~np.any(weights < -(facing.reach + delta), axis=1))
-    # beside a growth the gap's lower weights are its closest point's, within the reach
-    weights = np.where(beside[:, None], np.clip(weights, -MARGIN, 1.0 + 2.0 * MARGIN), weights)
-    size = np.abs(weights) + delta  # (P, 3): |lambda_k| and its move until then
-    held = np.where(counted, block.stiffness * factor, 0.0)  # c_p k_p
+    if ply_projection.COMPILED:  # the same numbers, one compiled pass (ply_springs_kernels.py)
+        size, held = ply_springs_kernels.held_points(
+            past, beside, reached, faded, facing.gap, s, weights, facing.reach, delta,
+            block.stiffness, MARGIN,
+        )  # fmt: skip
+    else:
+        factor = stiffness_factor(past, beside, reached, faded)
+        # the points that may touch until then: within s of the face, and not past their
+        # facing triangle's reach by more than the slide (a point beside a growth is held)
+        counted = (facing.gap < s) & (beside | ~np.any(weights < -(facing.reach + delta), axis=1))
+        # beside a growth the gap's lower weights are its closest point's, within the reach
+        weights = np.where(beside[:, None], np.clip(weights, -MARGIN, 1.0 + 2.0 * MARGIN), weights)
+        size = np.abs(weights) + delta  # (P, 3): |lambda_k| and its move until then
+        held = np.where(counted, block.stiffness * factor, 0.0)  # c_p k_p
     ring = getattr(block, "_ring", None)
     if ring is None:
         ring = block._ring = ring_matrix(block.cells, block.lower_nodes)
-    corners = block.cells[facing.triangle]
     mass = block.calibrated_mass if mass is None else mass
     v = None if mass is None else _node_weights(block, mass, held, size, facing.triangle, delta)
     if v is None:  # equal weights: sum_i |a_i| <= s_p
@@ -232,12 +240,18 @@ def reachable_springs(
     else:  # sum_i |a_i| v_i over the nodes the point may reach (module docstring, "Weights")
         spread = _weighted_reach(block, v, size, facing.triangle, delta)
     load = held * spread
-    upper = block._lumped(load)[block.upper]
-    at = np.bincount(corners.ravel(), (load[:, None] * size).ravel(), block.n_nodes)[
-        block.lower_nodes
-    ]
-    on_triangles = np.bincount(facing.triangle, load, len(block.cells))
-    lower = at + delta * (ring @ on_triangles)
+    if ply_projection.COMPILED:  # the same sums, one compiled pass (ply_springs_kernels.py)
+        lumped, cornered, ringed = _spread(block, load, size, facing.triangle)
+        upper = lumped[block.upper]
+        lower = cornered[block.lower_nodes] + delta * ringed
+    else:
+        corners = block.cells[facing.triangle]
+        upper = block._lumped(load)[block.upper]
+        at = np.bincount(corners.ravel(), (load[:, None] * size).ravel(), block.n_nodes)[
+            block.lower_nodes
+        ]
+        on_triangles = np.bincount(facing.triangle, load, len(block.cells))
+        lower = at + delta * (ring @ on_triangles)
     if v is not None:
         upper, lower = upper / v[block.upper], lower / v[block.lower_nodes]
     return nodes, np.concatenate([upper, lower])
@@ -299,20 +313,23 @@ def _node_weights(block, mass, held, size, triangle, delta) -> np.ndarray | None
     mass (equal weights then)."""
     mass = np.asarray(mass, dtype=float)
     nodes = np.concatenate([block.upper, block.lower_nodes])
-    if len(mass) != block.n_nodes or not np.all(np.isfinite(mass[nodes]) & (mass[nodes] > 0.0)):
+    v = _start_weights(block, mass, nodes)
+    if v is None:
         return None
-    v = np.ones(block.n_nodes)
-    v[nodes] = 1.0 / mass[nodes]
-    v /= v[nodes].max()
     for _ in range(WEIGHT_ITERATIONS):
         load = held * _weighted_reach(block, v, size, triangle, delta)
-        loads = block._lumped(load)
-        loads += np.bincount(
-            block.cells[triangle].ravel(), (load[:, None] * size).ravel(), block.n_nodes
-        )
-        loads[block.lower_nodes] += delta * (
-            block._ring @ np.bincount(triangle, load, len(block.cells))
-        )
+        if ply_projection.COMPILED:  # the same sums, one compiled pass (ply_springs_kernels.py)
+            lumped, cornered, ringed = _spread(block, load, size, triangle)
+            loads = lumped + cornered
+            loads[block.lower_nodes] += delta * ringed
+        else:
+            loads = block._lumped(load)
+            loads += np.bincount(
+                block.cells[triangle].ravel(), (load[:, None] * size).ravel(), block.n_nodes
+            )
+            loads[block.lower_nodes] += delta * (
+                block._ring @ np.bincount(triangle, load, len(block.cells))
+            )
         ahead = loads[nodes] / mass[nodes]
         if not ahead.max() > 0.0:
             break
@@ -321,6 +338,53 @@ def _node_weights(block, mass, held, size, triangle, delta) -> np.ndarray | None
         scale = ahead.max()
         v[nodes] = np.where(ahead > 0.0, np.maximum(ahead / scale, WEIGHT_FLOOR), v[nodes])
     return v
+
+
+def _spread(block, load, size, triangle) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The points' loads ``load`` (P,) spread on the nodes (``ply_springs_kernels.
+    spread_loads``): (n,) sum_p N_j load_p at the upper corners (``block._lumped``), (n,) sum_p
+    load_p (|lambda_k| + delta) at the facing corners, (l,) the ring's sum of the loads on
+    each lower node's ring of triangles (``block._ring`` times them per triangle); the ring's
+    arrays kept with it."""
+    ring = block._ring
+    kept = getattr(block, "_ring_arrays", None)
+    if kept is None or kept[0] is not ring:
+        kept = block._ring_arrays = (
+            ring, *(np.ascontiguousarray(a, dtype=np.int64) for a in (ring.indptr, ring.indices)),
+            np.ascontiguousarray(ring.data, dtype=float),
+        )  # fmt: skip
+    return ply_springs_kernels.spread_loads(
+        load, block.shape, block.above, size, block.cells, triangle, kept[1], kept[2], kept[3],
+        block.n_nodes,
+    )  # fmt: skip
+
+
+def _start_weights(block, mass: np.ndarray, nodes: np.ndarray) -> np.ndarray | None:
+    """(n,) the weights the power iterations start from, 1 / m at ``nodes`` scaled to a
+    largest of 1 (1 elsewhere), or None where a node of the block has no positive finite
+    mass. Kept with the masses' bits (the solver hands down the same masses every tenth
+    step): a copy of the kept weights where ``mass`` is the same, the same numbers."""
+    kept = getattr(block, "_kept_start_weights", None)
+    if kept is not None and same_bits(kept[0], mass):
+        return None if kept[1] is None else kept[1].copy()
+    v = None
+    if len(mass) == block.n_nodes and np.all(np.isfinite(mass[nodes]) & (mass[nodes] > 0.0)):
+        v = np.ones(block.n_nodes)
+        v[nodes] = 1.0 / mass[nodes]
+        v /= v[nodes].max()
+    block._kept_start_weights = (mass.copy(), v)
+    return None if v is None else v.copy()
+
+
+def _outline(block) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(rows (E,), ends (E, 2), wedges (w, 2)) of ``block``'s lower outline
+    (``outline_segments``, ``_wedge_corners``): its cells and outline are fixed when it is
+    bound, so they are found once and kept."""
+    kept = getattr(block, "_springs_outline", None)
+    if kept is None:
+        rows, ends = outline_segments(block.outline)
+        kept = block._springs_outline = (rows, ends, _wedge_corners(block.cells, rows, ends))
+    return kept
 
 
 def _distance(points: np.ndarray, segments: np.ndarray) -> np.ndarray:

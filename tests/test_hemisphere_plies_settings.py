@@ -47,3 +47,22 @@ def test_a_share_and_options_shorten_or_replace_the_settings():
 def test_an_unknown_run_or_share_is_refused(name, kinematics, share, match):
     with pytest.raises(ValueError, match=match):
         run.case_settings(name, kinematics, share=share)
+
+
+def test_the_holder_s_force_amplitude_of_a_float_is_numpy_s_clip_to_the_bit():
+    """The explicit step asks the holder's amplitude every step with a float (Python's
+    comparisons, not numpy's clip of a 0-d array): the same number, bit for bit, over the
+    ramp, either side of it, at its ends, at -0 and for NaN; an array keeps numpy's clip."""
+    import numpy as np
+
+    from validation.studies.hemisphere_plies_setup import HOLDER_RAMP, _holder_amplitude
+
+    taus = np.concatenate([
+        np.random.default_rng(3).uniform(-0.5, 1.5, 2000),
+        [0.0, -0.0, HOLDER_RAMP, np.nextafter(HOLDER_RAMP, 1.0), np.nextafter(HOLDER_RAMP, 0.0),
+         5e-324, -5e-324, np.inf, -np.inf, np.nan],
+    ])  # fmt: skip
+    expected = np.clip(taus / HOLDER_RAMP, 0.0, 1.0)
+    found = np.array([_holder_amplitude(float(tau)) for tau in taus])
+    assert found.tobytes() == expected.tobytes()
+    assert np.asarray(_holder_amplitude(taus)).tobytes() == expected.tobytes()
