@@ -10,6 +10,9 @@ arguments' conversions and outputs between them.
 Each stage runs its kernel's own plain build (elements/jit.py ``plain_part``; IEEE, no
 fastmath), so the history and both mappings are the same to the last bit as the three calls'
 (tests/test_ply_friction_pass.py); the dissipation's sum stays numpy's (its pairwise order).
+With ``select`` the pass also chooses the points that left the face (``_leaving``: the rows
+and flags of ``ply_departure.leaving`` and ``beside_growth``, the same), where numpy's masks
+chose them before each call (tests/test_ply_friction_pass.py, tests/test_ply_edge_crossing.py).
 """
 
 from __future__ import annotations
