@@ -96,8 +96,8 @@ def _leaving(last_triangle, touching, sides, face, flagged, on_edge, on_growth, 
     its order (anchored then, touching then by their side, not touching now, their point now
     finite) and ``ply_departure.beside_growth``'s flags of them (none where not
     ``flagged``). The test written in the loop, not a helper called per point: numba's call
-    of a compiled helper with array arguments took this pass from about 1 to 41 us on 384
-    points (its reference counts at each call)."""
+    of a compiled helper with array arguments (their reference counts at each call) took
+    this pass 41 us on 384 points, 2.4 written here."""
     count = touching.shape[0]
     leaves = np.empty(count, dtype=np.bool_)
     total = 0
