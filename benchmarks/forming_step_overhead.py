@@ -387,6 +387,47 @@ give), the tools' work and the records (a few us each). Not done: a rule renewin
 springs only when the contact sets change (the steps' sizes, hence every bit of the run,
 would move); the KD-tree of the wedge corners in the springs (scipy's own distances and
 bound to match).
+
+Tenth round, the committed history's compiled calls (main fcee482 beside this tree; one numba
+thread, CPU). Where it went (``--split``, Mindlin [0/90], 32225 steps, main at load 2.8, 1.793
+ms a step with the timers): ``update_history`` 424 us a call (two a step), the facing 0.527 ms
+a step over 4.4 calls. **No facing is made twice for one state**: ``closest_facing`` runs 2.00
+times a step (the committed history's, once a block), and the other 2.4 calls find that facing
+kept by its state's bits (the next step's loads 2, the stable step's ``springs_at`` 0.2 and the
+energy check's 0.2, both every tenth step at the committed state); a kept answer costs two
+``same_bits`` tests, about 2 us. A made facing was six compiled calls (the faces' normals, p
+and y, the search lists' moves, ``toward``, then ``whole_facing``'s two) with the block's
+caches and the search's glue between; replayed on one state (load 3.4): the facing 138-154 us,
+``closest_facing`` 111 (its two kernels 61-65), the faces, lists and ``toward`` 36, the sides
+12 (``behind`` 4, ``sides_at`` 8), the friction's history 70-90 (its pass's kernel 20, the
+leaving rows' numpy masks 7, ``_kept_history`` 6). Two cuts, each the same bits:
+
+* the new state's directions, faces, ``toward`` and lists' moves in one compiled call
+  (elements/ply_facing_front.py ``begun``; ``FacingSearch.near`` takes the moves measured,
+  tests/test_ply_facing_front.py): a made facing is three compiled calls, not six;
+* the points leaving the face chosen inside the friction's history pass
+  (elements/ply_friction_pass.py ``_leaving``, ``ply_friction_kernels.SELECT_IN_PASS``), not by
+  numpy's masks before it. Its test written in the loop: as a compiled helper called per point
+  (five array arguments) the selection took 41 us a call on 384 points, inline 2.4.
+
+benchmarks/ply_history_passes.py (the committed history replayed over 300 steps, both ways in
+one process alternating, best of 10, the same digests): Mindlin [0/90] 301.6 -> 279.8 us a
+block-step (x 1.078, load 2.4; 344.5 -> 318.5 at load 4.9), fibrous [0/90] 337.2 -> 309.6 (x
+1.089, load 2.5). ``--reference`` (Mindlin [0/90], 32225 steps, alternating): best of 3 at load
+2.0-3.4, 1.475 -> 1.427 ms a step (single runs 48.98 / 47.55 / 51.32 s against 48.05 / 45.97 /
+49.79 s: the step's noise is as large as the cut), the ply contacts' history 0.719 -> 0.682 ms
+a step (x 1.05); best of 2 at load 3.2-4.8, 1.440 -> 1.437, the history 0.709 -> 0.687; the
+same steps and final positions and directors to the bit each time. ``--split`` of this tree
+(load 2.7, 1.558 ms a step with the timers, fewer timed calls than main's): ``update_history``
+360 us a call, the facing 0.452 ms a step (``closest_facing`` 149 us a call, ``near`` 20).
+hemisphere-plies coarse (``python -m validation --cases hemisphere-plies --resolution coarse
+--jobs 1``, the two trees at once, load 2.4-4.2): results.json the same in all its numbers but
+the times (168 of 179), the three PNG files byte for byte, 12 of 12 checks. What is left of a
+made facing is its two ``whole_facing`` kernels (on one state, load 2.4: 61 us at the 384
+points of one candidate each, 40 at the 81 of six; the choice 32 / 26, the sides and fade 29 /
+14; numba's dispatch of their 35 and 49 arguments 2.1 and 4.9 us of that) and some 20-40 us of
+Python round them (about 25 arrays made, the Facing, the caches' tests); of the history, its
+pass's kernel and the landing's (half the steps land a point).
 """
 
 from __future__ import annotations

@@ -19,6 +19,7 @@ from elements import (
     ply_curved_friction,
     ply_curved_tangent,
     ply_face_points,
+    ply_facing_front,
     ply_friction,
     ply_friction_kernels,
     ply_landing_kept,
@@ -405,17 +406,15 @@ class PlyContactBlock(InteractionBlock):
             self._hessian_with_loads = False
         second = second or self._hessian_with_loads
         self._hessian_used = asked
-        p, near, y = self._candidates(state)
+        # a state not seen before: its faces, ``toward`` and the lists' moves in one compiled
+        # call where it serves (elements/ply_facing_front.py; None: the chained calls)
+        begun = ply_facing_front.begun(self, state)
+        p, near, y = self._candidates(state) if begun is None else begun[:3]
         if self.curved:  # the nearest of the candidates' curved patches (elements/ply_curved.py)
             found = ply_curved.curved_facing(self, state, p, y, near)
         else:
             # the points' plies' side: their faces' offsets from the mid-surfaces point away
             # from the lower ply (x - a d with a > 0 above it, the mirrored pass's -b below it)
-            d = self.offset_directions(state)
-            if ply_projection.COMPILED:  # the same bits, without d's gather (ply_face_points.py)
-                toward = ply_face_points.offset_toward(d, self.above, self.upper_offset, self.shape)
-            else:
-                toward = np.einsum("pj,pj,pji->pi", self.shape, self.upper_offset, d[self.above])
             found = closest_facing(
                 p,
                 y,
@@ -424,7 +423,7 @@ class PlyContactBlock(InteractionBlock):
                 self.outline,
                 second,
                 depth=self.depth,
-                toward=toward,
+                toward=ply_facing_front.toward(self, state) if begun is None else begun[3],
                 fade_distance=self.fade_length,
                 topology=self.topology,
                 outline_tree=self.outline_tree,

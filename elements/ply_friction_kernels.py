@@ -52,6 +52,9 @@ __all__ = ["friction_state", "updated_history"]
 #: ``updated_history``'s mapping, moved anchors and next mapping in one compiled call
 #: (elements/ply_friction_pass.py, the same bits), else three.
 FUSED = True
+#: That call chooses the points that left the face itself (``ply_departure.leaving``'s rows
+#: and ``beside_growth``'s flags, the same), else numpy's masks hand it them.
+SELECT_IN_PASS = True
 
 
 def _return_mapping(
@@ -346,11 +349,13 @@ def updated_history(
         _, y = block._faces(state)
         last = (history.triangle, history.anchor, history.slip, history.pressing)
         kept = _kept_mapping(block, history, facing)
-        # the departure's records in the pass (elements/ply_departure_kernels.py)
+        # the departure's records in the pass, its rows chosen there too
+        # (elements/ply_departure_kernels.py)
         compiled = ply_departure_kernels.COMPILED
-        leaving = ply_departure.leaving(block, history, facing) if compiled else None
+        select = compiled and SELECT_IN_PASS
+        leaving = ply_departure.leaving(block, history, facing) if compiled and not select else None
         sliding, moved, following = history_pass(
-            block, facing, y, last, kept, leaving, history.sides
+            block, facing, y, last, kept, leaving, history.sides, select=select
         )
         return _kept_history(
             block, history, facing, sides, sliding, moved, following, y, departed=compiled

@@ -10,6 +10,9 @@ arguments' conversions and outputs between them.
 Each stage runs its kernel's own plain build (elements/jit.py ``plain_part``; IEEE, no
 fastmath), so the history and both mappings are the same to the last bit as the three calls'
 (tests/test_ply_friction_pass.py); the dissipation's sum stays numpy's (its pairwise order).
+With ``select`` the pass also chooses the points that left the face (``_leaving``: the rows
+and flags of ``ply_departure.leaving`` and ``beside_growth``, the same), where numpy's masks
+chose them before each call (tests/test_ply_friction_pass.py, tests/test_ply_edge_crossing.py).
 """
 
 from __future__ import annotations
@@ -24,7 +27,7 @@ from elements.jit import lanes, plain_part
 from elements.kernel_inputs import read_only, writable
 from elements.ply_friction import Sliding
 from elements.ply_friction_kernels import _sliding_arrays
-from elements.ply_sides import PlySides
+from elements.ply_sides import TOUCHING, PlySides
 
 if TYPE_CHECKING:
     from elements.ply_block import PlyContactBlock
@@ -46,14 +49,21 @@ def _history(
     mapped_triangle, spring, lift, stored, triangle, anchor, slipped, dissipation,
     next_force, next_slip, next_stuck, next_sliding, next_pressing, next_offset,
     next_triangle, next_spring, next_lift, next_stored, leaving, before, then, aside, way,
-    tilt_floor,
+    tilt_floor, select, sides, flagged, on_edge, on_growth, joined,
 ):  # fmt: skip
     """The mapping from the last history (where ``fresh``; else its arrays given), the new
     history's triangle, anchor, slipped and dissipation with the departure's records of the
     points ``leaving`` (elements/ply_departure_kernels.py; the lower corners ``before`` and
     the points ``then`` at the last accepted state, ``aside`` those beside a growth's edge,
     ``way`` their slips; ``tilt_floor`` ply_landing.TILT), then the mapping from them (the
-    ``next_`` arrays), each written in place (``history_pass``)."""
+    ``next_`` arrays), each written in place (``history_pass``). Where ``select``, the rows
+    ``leaving`` and ``aside`` are chosen here instead (``_leaving``, from the last ``sides``
+    (P,) int8 and, where ``flagged``, the facing's ``on_edge``, ``on_growth`` and ``joined``
+    (P,) bool)."""
+    if select:
+        leaving, aside, way = _leaving(
+            last_triangle, touching, sides, face, flagged, on_edge, on_growth, joined
+        )
     if fresh:
         _mapping_here(
             touching, gap, stiffness, smoothing, fade, bounded, normal_law, potential,
@@ -80,11 +90,46 @@ def _history(
     )  # fmt: skip
 
 
+@lanes
+def _leaving(last_triangle, touching, sides, face, flagged, on_edge, on_growth, joined):
+    """(rows (r,) int, aside (r,) bool, way (r,) scratch): ``ply_departure.leaving``'s rows in
+    its order (anchored then, touching then by their side, not touching now, their point now
+    finite) and ``ply_departure.beside_growth``'s flags of them (none where not
+    ``flagged``). The test written in the loop, not a helper called per point: numba's call
+    of a compiled helper with array arguments (their reference counts at each call) took
+    this pass 41 us on 384 points, 2.4 written here."""
+    count = touching.shape[0]
+    leaves = np.empty(count, dtype=np.bool_)
+    total = 0
+    for i in range(count):
+        leaves[i] = (
+            last_triangle[i] >= 0
+            and not touching[i]
+            and sides[i] == TOUCHING
+            and np.isfinite(face[i, 0])
+            and np.isfinite(face[i, 1])
+            and np.isfinite(face[i, 2])
+        )
+        total += leaves[i]
+    rows = np.empty(total, dtype=np.int64)
+    aside = np.zeros(total, dtype=np.bool_)
+    j = 0
+    for i in range(count):
+        if leaves[i]:
+            rows[j] = i
+            if flagged:
+                aside[j] = on_edge[i] and on_growth[i] and not joined[i]
+            j += 1
+    return rows, aside, np.empty(total)
+
+
 _history_compiled = lanes(_history)
 # no point leaving: the departure's inputs of their types, read-only
 _NO_CORNERS, _NO_POINTS = np.zeros((0, 3, 3)), np.zeros((0, 3))
 _NO_CORNERS.setflags(write=False)
 _NO_POINTS.setflags(write=False)
+_NO_SIDES, _NO_FLAGS = np.zeros(0, dtype=np.int8), np.zeros(0, dtype=np.bool_)
+_NO_FLAGS.setflags(write=False)
 
 
 def history_pass(
@@ -95,6 +140,7 @@ def history_pass(
     kept: Sliding | None,
     leaving: np.ndarray | None = None,
     sides: PlySides | None = None,
+    select: bool = False,
 ) -> tuple[Sliding, tuple[np.ndarray, ...], Sliding]:
     """The friction's history pass of a flat ply contact block at a facing (module
     docstring).
@@ -114,6 +160,10 @@ def history_pass(
     leaving : (r,) int or None
         The points whose departure's records the pass writes (``ply_departure.leaving``;
         None: none), from the last history's ``sides`` (its faces and lower corners).
+    select : bool
+        The pass chooses those points itself (``ply_departure.leaving``'s rule and
+        ``beside_growth``'s flags, the same rows), from ``sides``; ``leaving`` is then not
+        read (a step where none leaves pays no numpy mask).
 
     Returns
     -------
@@ -139,10 +189,16 @@ def history_pass(
         np.empty(count),
     )
     last_triangle, last_anchor, last_slip, last_pressing = last
-    if leaving is None or sides is None or not len(leaving):
-        leaving, before, then = np.zeros(0, dtype=np.int64), _NO_CORNERS, _NO_POINTS
-    else:
+    chosen = _NO_SIDES  # the last sides where the pass chooses the rows
+    if sides is not None and (select or (leaving is not None and len(leaving))):
         before, then = sides.corners, sides.faces
+        chosen = writable(sides.sides, np.int8) if select else chosen
+    else:
+        before, then, select = _NO_CORNERS, _NO_POINTS, False
+    if select or leaving is None:
+        leaving = np.zeros(0, dtype=np.int64)
+    edge_flags = (facing.on_edge, facing.on_growth, facing.joined)
+    flagged = all(flag is not None for flag in edge_flags)
     # the rows beside a growth's edge: their slip across the gap's normal (ply_departure.py)
     aside = ply_departure.beside_growth(facing, leaving)
     flag = block.stick != "penalty"  # the normal law's spring and potential (flat faces)
@@ -156,7 +212,8 @@ def history_pass(
         fresh, read_only(facing.triangle, np.int64), read_only(facing.weights),
         read_only(facing.gradients), writable(last_slip), writable(last_pressing), *mapped,
         *moved, *following, writable(leaving, np.int64), read_only(before), read_only(then),
-        writable(aside, np.bool_), np.empty(len(leaving)), ply_landing.TILT,
+        writable(aside, np.bool_), np.empty(len(leaving)), ply_landing.TILT, select, chosen,
+        flagged, *(read_only(f, np.bool_) if flagged else _NO_FLAGS for f in edge_flags),
     )  # fmt: skip
     sliding = Sliding(*mapped) if kept is None else kept
     return sliding, moved, Sliding(*following)

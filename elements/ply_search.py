@@ -297,14 +297,31 @@ class FacingSearch:
         # hemisphere's 384 points, benchmarks/ply_relist.py)
         return self.cuts.cut[triangle]
 
-    def near(self, p: np.ndarray, y: np.ndarray) -> np.ndarray:
+    def lists_for(self, count: int, m: int) -> _Lists | None:
+        """The kept lists where they serve ``count`` points over ``m`` triangles (None: the
+        next ``near`` makes them anew): the moves ``near`` measures are of these."""
+        lists = self._lists
+        if lists is None or lists.origin.shape != (count, 3) or lists.epoch.shape != (m, 3, 3):
+            return None
+        return lists
+
+    def near(
+        self,
+        p: np.ndarray,
+        y: np.ndarray,
+        moves: tuple[float, np.ndarray, np.ndarray] | None = None,
+    ) -> np.ndarray:
         """(P, K) int: each point's candidates (rows of y), holding its nearest grown triangle
         and every triangle within ``skin`` of it when the list was made; p (P, 3) the points,
-        y (m, 3, 3) the lower triangles' corners, mm."""
-        lists = self._lists
-        if lists is None or lists.origin.shape != p.shape or lists.epoch.shape != y.shape:
+        y (m, 3, 3) the lower triangles' corners, mm. ``moves``: ``_moves``' answer (M, t
+        (3,), the drifts (P,)) at (p, y) from the lists ``lists_for`` gave, measured by the
+        caller's pass (elements/ply_facing_front.py); None: measured here."""
+        lists = self.lists_for(len(p), len(y))
+        if lists is None:
             return self._renew(p, y)
-        if ply_projection.COMPILED:  # the same bits (_moves)
+        if moves is not None:
+            moved, shift, drift = moves
+        elif ply_projection.COMPILED:  # the same bits (_moves)
             shift, drift = np.empty(3), np.empty(len(p))
             moved = float(
                 _moves_compiled(
@@ -325,7 +342,7 @@ class FacingSearch:
             moved = float(np.max(grown_moves(move - shift, self.reach), initial=0.0))
         if not moved <= EPOCH_SHARE * self.skin:  # NaN too
             return self._renew(p, y)
-        if not ply_projection.COMPILED:
+        if moves is None and not ply_projection.COMPILED:
             own = p - lists.origin - (shift - lists.shift)
             drift = np.linalg.norm(own, axis=1) + moved + lists.moved
         bound = 0.5 * (1.0 - ROUNDING) * self.skin

@@ -97,13 +97,19 @@ def test_the_compiled_departure_writes_the_numpy_records_to_the_bit():
     assert dissipation.tobytes() == expected_dissipation.tobytes()
 
 
-@pytest.mark.parametrize("fused", [True, False])
-def test_the_history_pass_with_the_compiled_departure_keeps_the_numpy_records(monkeypatch, fused):
+@pytest.mark.parametrize(
+    ("fused", "select"), [(True, True), (True, False), (False, False)],
+    ids=["fused, rows chosen in the pass", "fused", "apart"],
+)  # fmt: skip
+def test_the_history_pass_with_the_compiled_departure_keeps_the_numpy_records(
+    monkeypatch, fused, select
+):
     """The pressed pair carried and lifted in 40 accepted states (its points leave at 0.713
     of the way): every history's slip and dissipation the same bits by the kernel (in the
-    fused history pass, elements/ply_friction_pass.py, or called apart) and by the numpy
-    departure."""
+    fused history pass, elements/ply_friction_pass.py, its rows chosen there or by numpy's
+    masks, or called apart) and by the numpy departure."""
     monkeypatch.setattr(ply_friction_kernels, "FUSED", fused)
+    monkeypatch.setattr(ply_friction_kernels, "SELECT_IN_PASS", select)
     histories = {}
     for compiled in (True, False):
         monkeypatch.setattr(ply_departure_kernels, "COMPILED", compiled)

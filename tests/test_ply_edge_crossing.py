@@ -308,6 +308,9 @@ def test_a_point_leaving_beside_a_growths_edge_slips_by_its_offset_across_nu(dep
         leaving = ply_departure.leaving(block, history, beside)
         _, moved, _ = history_pass(block, beside, y, last, None, leaving, sides)
         np.testing.assert_allclose(moved[2], expected, atol=1e-15)
+        # and with the rows and their flags chosen in the pass (``select``): the same bits
+        _, chosen, _ = history_pass(block, beside, y, last, None, None, sides, select=True)
+        assert [a.tobytes() for a in chosen] == [a.tobytes() for a in moved]
 
 
 def test_curved_faces_mark_no_point_facing_an_edge():

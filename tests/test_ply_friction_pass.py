@@ -73,3 +73,40 @@ def test_the_fused_history_is_the_three_calls_to_the_bit(monkeypatch, stick):
     assert want_one == want_all
     assert got == want_one
     assert min(seen.values()) > 0, seen
+
+
+@pytest.mark.parametrize("seed", [0, 1, 2])
+def test_the_pass_chooses_the_leaving_rows_and_their_flags_as_numpy(seed):
+    """``_leaving`` (the rows the pass's departure takes with ``select``) against
+    ``ply_departure.leaving`` and ``beside_growth`` on 500 random points: anchored or not,
+    touching then by each side (clear, touching, behind), touching now or not, points now
+    finite or not in each coordinate, and every combination of the three edge flags; the same
+    rows in the same order and the same flags, with the flags and without (none aside)."""
+    from types import SimpleNamespace
+
+    from elements import ply_departure
+    from elements.ply_friction_pass import _leaving
+
+    rng = np.random.default_rng(seed)
+    count = 500
+    triangle = rng.integers(-1, 5, count)
+    sides = rng.integers(0, 3, count).astype(np.int8)
+    touching = rng.uniform(size=count) < 0.3
+    face = rng.normal(size=(count, 3))
+    face[rng.uniform(size=(count, 3)) < 0.05] = np.nan
+    face[rng.uniform(size=(count, 3)) < 0.02] = np.inf
+    on_edge, on_growth, joined = (rng.uniform(size=(3, count)) < 0.5).astype(bool)
+    facing = SimpleNamespace(
+        touching=touching, face=face, on_edge=on_edge, on_growth=on_growth, joined=joined
+    )
+    history = SimpleNamespace(triangle=triangle, sides=SimpleNamespace(sides=sides))
+    rows = ply_departure.leaving(SimpleNamespace(friction=0.3), history, facing)
+    aside = ply_departure.beside_growth(facing, rows)
+    assert 20 < len(rows) < count and 0 < aside.sum() < len(rows)
+    for flagged in (True, False):
+        got, got_aside, way = _leaving(
+            triangle, touching, sides, face, flagged, on_edge, on_growth, joined
+        )
+        assert got.tolist() == rows.tolist()
+        assert got_aside.tolist() == (aside if flagged else np.zeros(len(rows), bool)).tolist()
+        assert way.shape == (len(rows),)
