@@ -7,6 +7,7 @@ quantities (validation/paper/orders.py ``order_quantities``: the mid-surface z a
 fibrous thickness at the middle of each side) from the reference pass's.
 
     python benchmarks/paper_refinement.py --cases bai-6.1.1,bai-6.2.1 --increments 5,3
+    python benchmarks/paper_refinement.py --cases bai-6.2.2 --increments 10 --turns 3
 
 Measured (one numba thread, CPU, one run at a time, 2 cores shared with other jobs, load
 9-10; reference 10 increments -> 5):
@@ -29,8 +30,9 @@ one run each, one thread, load 2.8-3.4; the first run of the process pays numba'
 loads): bai-6.2.2 24 cells fibrous 2.91 -> 2.29 / 3.01 / 2.66 s (22 -> 15 / 14 / 16
 increments, 2 -> 2 / 4 / 3 cuts), 1.1e-9 / 1.3e-15 / 4.2e-11 apart; Mindlin 0.73 -> 0.65 /
 0.77 / 0.75 s; the 6-cell runs 0.26 / 0.24 / 0.32 s (fibrous) and 0.13 / 0.13 / 0.09 s
-(Mindlin) against 0.22 and 0.14 in the case. The four runs in turns (one process, best of 3
-alternating, load 3.2): 20 -> 10 increments 3.87 -> 3.25 s, so bai-6.2.2 takes
+(Mindlin) against 0.22 and 0.14 in the case. The four runs in turns (``--increments 10
+--turns 3``: one process, best of 3 alternating, load 1.0-1.3): 20 -> 10 increments 3.68 ->
+2.95 s (4.18 / 3.86 / 3.68 against 2.95 / 3.18 / 3.03), so bai-6.2.2 takes
 ``order_increments`` 10. bai-6.1.2 gains on none (24 cells fibrous 2.89 -> 3.83 / 4.19 / 4.20
 s, 2 -> 4 / 5 / 5 cuts).
 
@@ -40,9 +42,9 @@ bai-5.1 figures above are of that other path. With its own (one run each, load 2
 20 / 5 increments): 15 cells fibrous 0.94 (the process's first run) -> 0.49 / 0.59 s (5 -> 4 /
 7 cuts), Mindlin 0.26 -> 0.24 / 0.26; 60 cells fibrous 1.37 -> 1.25 / 1.74 (4 -> 3 / 7 cuts,
 195 -> 171 / 241 tangents), Mindlin 0.51 -> 0.48 / 0.65; at most 1.6e-11 apart (on 7 and 15,
-without its settings, none faster). The four runs in turns (one process, best of 3
-alternating, load 2.4): 10 -> 20 increments 2.48 -> 2.27 s, so bai-5.1 takes
-``order_increments`` 20, more than its own runs' 10.
+without its settings, none faster). The four runs in turns (``--increments 20 --turns 3``,
+load 1.3-1.5): 10 -> 20 increments 2.67 -> 2.50 s (3.30 / 2.92 / 2.67 against 2.52 / 2.55 /
+2.50), so bai-5.1 takes ``order_increments`` 20, more than its own runs' 10.
 """
 
 from __future__ import annotations
@@ -94,17 +96,53 @@ def measure(name: str, resolution: str, counts: list[int]) -> None:
                 )
 
 
+def turns(name: str, resolution: str, counts: list[int], rounds: int) -> None:
+    """Print, per increments count (the case's own first), the CPU of the case's refinement
+    runs together (every other mesh, both kinematics), the counts run alternately ``rounds``
+    times in one process, each round in another order: the best and every round's sum."""
+    spec = _module(name).SPEC
+    runs = [
+        (spec.make_specimen(cells), kinematics)
+        for cells in spec.order_cells[resolution]
+        if cells != spec.cells[resolution]
+        for kinematics in ORDER_KINEMATICS
+    ]
+    every = [spec.increments, *counts]
+    sums: dict[int, list[float]] = {n: [] for n in every}
+    for round_ in range(rounds):
+        order = every[round_ % len(every) :] + every[: round_ % len(every)]
+        for increments in order:
+            started = time.process_time()
+            for specimen, kinematics in runs:
+                model = spec.model(specimen, kinematics)
+                solve(model, increments, spec.arc_iterations, spec.arc_chords)
+            sums[increments].append(time.process_time() - started)
+    for increments in every:
+        spent = ", ".join(f"{t:.2f}" for t in sums[increments])
+        print(
+            f"{name} {len(runs)} runs on {increments:3d} increments: best "
+            f"{min(sums[increments]):.2f} s CPU ({spent})",
+            flush=True,
+        )
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--cases", default="bai-6.1.1,bai-6.2.1")
     parser.add_argument("--resolution", default="default")
     parser.add_argument("--increments", default="5")
+    parser.add_argument(
+        "--turns", type=int, default=0, help="the runs' sums per count, alternately, N rounds"
+    )
     args = parser.parse_args()
     os.environ.setdefault("FIBRESHELL_PROGRESS", "0")
     counts = [int(n) for n in args.increments.split(",")]
     print(f"load before: {os.getloadavg()}")
     for name in args.cases.split(","):
-        measure(name, args.resolution, counts)
+        if args.turns:
+            turns(name, args.resolution, counts, args.turns)
+        else:
+            measure(name, args.resolution, counts)
     print(f"load after: {os.getloadavg()}")
 
 

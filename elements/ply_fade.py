@@ -478,6 +478,7 @@ def stiffness_factor(
         (``SIDEWAYS_STIFFNESS`` = 3 beside, else 1) + 3 A x + 3 x^2 in the band (x = depth /
         D, A = 1.25), 1 elsewhere.
     """
+    # (written again, operation by operation, in ply_springs_kernels._held: change both)
     x = np.asarray(depth, dtype=float) / length
     cross = np.sqrt(1.0 + (0.75 / SIDEWAYS) ** 2)
     angle = np.where(beside, max(1.0, SIDEWAYS_STIFFNESS), 1.0)

@@ -1,12 +1,16 @@
-"""The ply springs' slide, outline reach and weighted reach compiled (elements/ply_springs.py
-``slide``, ``reachable_springs``' points near the outline, ``_weighted_reach``; docs/theory.md
-§6.2, "The penalty springs"): the fastest point's speed against its facing triangle's point
-plus the plies' depth times both sets' largest angular speed, the points within the slide
-and their gap of the outline's nearest edge, and each point's bound F_p of sum_i |a_i| v_i,
-each in one serial pass over the points.
+"""The ply springs' passes compiled (elements/ply_springs.py; docs/theory.md §6.2, "The
+penalty springs"): the slide (``fastest_point``: the fastest point's speed against its facing
+triangle's point plus the plies' depth times both sets' largest angular speed), the points
+within the slide of the outline's nearest edge and their gap (``near_outline``), the points'
+sizes |lambda_k| + delta and held loads c_p k_p (``held_points``: the fade's factor, the
+points that may touch, the weights clipped beside a growth), each point's bound F_p of
+sum_i |a_i| v_i (``weighted_reach``) and the points' loads spread on the nodes
+(``spread_loads``: the upper corners, the facing corners and the lower nodes' rings), each in
+one serial pass over the points.
 
-Their numpy references are ``ply_springs.slide``, ``reachable_springs`` and
-``_weighted_reach`` with ``ply_projection.COMPILED = False``: the passes do the same IEEE
+Their numpy references are ``ply_springs.slide``, ``reachable_springs`` (the outline's
+reach, the held points and the spread), ``_weighted_reach`` and ``_node_weights`` with
+``ply_projection.COMPILED = False``: the passes do the same IEEE
 operations in the same order (numpy's ``einsum("pj,pji->pi")`` sums its three terms from the
 first, ``einsum("pi,pi->p")`` as (first + last) + middle, a row's ``sum`` and
 ``np.linalg.norm(axis=1)``'s squares from the first, scipy's CSR product row by row from 0.0;

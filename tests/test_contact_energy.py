@@ -50,12 +50,14 @@ def test_a_frictionless_contact_s_energy_is_the_whole_formula_s_to_the_bit(tool)
 
 
 @pytest.mark.filterwarnings("ignore:invalid value encountered")
-def test_a_node_without_penalty_keeps_the_whole_formula_s_nan():
-    """k = 0 at a node: 0 / 0 in the springs' term, NaN, as before (not hidden)."""
+@pytest.mark.parametrize("stiffness", [0.0, np.nan], ids=["zero", "unset"])
+def test_a_node_without_penalty_keeps_the_whole_formula_s_nan(stiffness):
+    """k = 0 at a node (0 / 0 in the springs' term) or no penalty set (NaN, a contact
+    without ``penalty`` before the solver calibrates it): NaN, as before (not hidden)."""
     compiled, state = _pressed(RigidPlane((0.0, 0.0, 0.0), (0.0, 0.0, 1.0)))
     block = compiled.interactions[0]
     block.stiffness = block.stiffness.copy()
-    block.stiffness[3] = 0.0
+    block.stiffness[3] = stiffness
     history = compiled._histories(state)[len(compiled.blocks)]
     assert np.isnan(block.strain_energy(state, history))
     assert np.isnan(_whole_formula(block, state, history))

@@ -185,6 +185,14 @@ def test_peirce_test_of_the_bilinear_law_reports_a_tenth_of_its_initial_slope():
     assert linear["overhang"] == pytest.approx(test["overhang"], rel=2e-4)
 
 
+@pytest.mark.parametrize("weight", [0.0, -1e-6, float("nan"), float("inf"), 1.0 + 0.0j])
+def test_peirce_test_refuses_a_weight_that_is_not_a_positive_real_number(weight):
+    # Refused before any solve, naming the argument (a NaN weight reached scipy's collocation
+    # and failed there with a singular Jacobian, a zero one divided by zero).
+    with pytest.raises(ValueError, match="weight must be a real number > 0"):
+        peirce_overhang(weight, LAW)
+
+
 def test_peirce_test_solves_each_overhang_it_tries_once_and_returns_that_solve(monkeypatch):
     # The bracket's search and brentq ask some overhangs twice (the first point, the bracket's
     # ends, the root brentq returns): each is one collocation solve, whose shape the test

@@ -111,10 +111,11 @@ SPEC = PaperCase(
     order_tolerance={"default": ORDER_TOLERANCE, "fine": ORDER_TOLERANCE},
     # The two other meshes' runs, of which the orders read the last equilibrium alone, on 20
     # arc-length increments a phase, more than the case's own 10: their shorter first steps
-    # are cut less (one thread, CPU, best of 3 alternating turns in one process, load 2.4;
-    # benchmarks/paper_refinement.py): the four runs 2.48 -> 2.27 s (the 60-cell fibrous run
-    # 4 -> 3 cuts, 195 -> 171 tangents), the compared quantities within 1.6e-11 relative of
-    # the 10-increment paths' (the orders' checks are at 1 %); on 5, 7 or 15 no faster.
+    # are cut less (one thread, CPU, best of 3 alternating turns in one process, load 1.3-1.5;
+    # benchmarks/paper_refinement.py --turns 3): the four runs 2.67 -> 2.50 s (each turn's
+    # 3.30 / 2.92 / 2.67 against 2.52 / 2.55 / 2.50; the 60-cell fibrous run 4 -> 3 cuts, 195
+    # -> 171 tangents), the compared quantities within 1.6e-11 relative of the 10-increment
+    # paths' (the orders' checks are at 1 %); on 5, 7 or 15 no faster.
     order_increments=20,
     arc_iterations=ARC_ITERATIONS,
     arc_chords=ARC_CHORDS,

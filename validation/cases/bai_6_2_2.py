@@ -90,9 +90,10 @@ SPEC = corner_case(
     comparison_note=COMPARISON_NOTE,
     midsurface_tolerance=MIDSURFACE_TOLERANCE,
     # The two other meshes' runs, of which the orders read the last equilibrium alone, on 10
-    # arc-length increments a phase instead of 20 (benchmarks/paper_refinement.py; one
-    # thread, CPU, best of 3 alternating turns in one process, load 3.2): the four runs 3.87
-    # -> 3.25 s (the 24-cell fibrous run 22 -> 15 increments, 116 -> 96 Newton iterations,
+    # arc-length increments a phase instead of 20 (benchmarks/paper_refinement.py --turns 3;
+    # one thread, CPU, best of 3 alternating turns in one process, load 1.0-1.3): the four
+    # runs 3.68 -> 2.95 s (each turn's 4.18 / 3.86 / 3.68 against 2.95 / 3.18 / 3.03; the
+    # 24-cell fibrous run 22 -> 15 increments, 116 -> 96 Newton iterations,
     # the limit point passed as before); the compared quantities the same equilibrium within
     # 1.1e-9 relative (the orders' checks are at 1 %). On 5 or 3 the 24-cell runs cut 3-4
     # times and cost as much as on 20.

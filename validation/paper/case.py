@@ -112,8 +112,9 @@ class PaperCase:
     # quantity left out: its orders are reported, not checked.
     order_tolerance: dict[str, dict[str, float]] | None = None
     # The arc-length increments of the two other meshes' runs (None: ``increments``): they
-    # give their last equilibrium alone, which a shorter path whose increments converge
-    # reaches too, within Newton's tolerance (measured per case where it is set).
+    # give their last equilibrium alone, which another path whose increments converge
+    # reaches too, within Newton's tolerance (measured per case where it is set:
+    # benchmarks/paper_refinement.py --turns).
     order_increments: int | None = None
     # The Newton iterations the arc length's step rule aims each increment at (Static's
     # ``arc_iterations``), in every run of the case (measured per case where it is set).

@@ -19,6 +19,8 @@ optionally shear-flexible; ``peirce_overhang`` is Peirce's cantilever test (J. T
 
 from __future__ import annotations
 
+import numbers
+
 import numpy as np
 from scipy.integrate import cumulative_trapezoid, solve_bvp
 from scipy.optimize import brentq
@@ -532,6 +534,9 @@ def peirce_overhang(
     """
     if not 0.0 < angle_deg < 90.0:
         raise ValueError(f"angle_deg must be in (0, 90), got {angle_deg!r}")
+    # (checked here: the kept solves below do not pass through heavy_cantilever_law's checks)
+    if not (isinstance(weight, numbers.Real) and np.isfinite(weight) and weight > 0.0):
+        raise ValueError(f"weight must be a real number > 0 (N/mm^2), got {weight!r}")
     response = MomentCurvature.of(law)
     target = np.radians(angle_deg)
     # Each overhang's solve kept: the bracket's search asks a point twice, brentq asks the
