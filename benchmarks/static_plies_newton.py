@@ -430,7 +430,7 @@ Where the first increments go (``--detail``, coarse; the cases' solvers; one thr
   later ones) and 260 (71).
 
 The second phase's increments (plies-bai-5.1, the case's solver; ``--detail --parts`` and
-``--tangent-check --check-load 1.8``; one thread, CPU, load 1-2.6; the trials by patches of the
+``--tangent-check --check-load 1.8``; one thread, CPU, load 0.5-2.8; the trials by patches of the
 code, not kept, their counts the measure):
 
 * The counts: coarse (4 plies, 12 cells) 21-5-4-4-4-3-3-3-3-3 and 82-19-18-18-18-8-11-10-8-12,
