@@ -16,12 +16,17 @@ iterate, the element blocks' and the interactions' internal-force norms and the 
 gap as well, and between iterates the largest change of a point's gap; ``--tangent-check``
 solves the case once and compares, on the last increment's iterates, each part's tangent
 with central differences of its forces and the whole residual's directional derivative
-with -K v (no timing; "The deck's linear tail" below).
+with -K v (no timing; "The deck's linear tail" below), with ``--check-load L --every k``
+on every k-th iterate of the attempt that converged at load factor L; ``--detail --parts``
+adds, per iterate, the norms on the free unknowns of the plies' membrane, bending and
+transverse-shear loads (each group of the Mindlin fabric section's stress resultants alone,
+elements/fabric_section.py), the ply contact's and the dead load's ("The second phase's
+increments" below).
 
     python benchmarks/static_plies_newton.py [--case bai|heavy|deck|sag]
         [--resolution coarse|default] [--stall 25] [--first-turn 0.1 [--no-stall]]
-        [--update-turn 0.03 [--no-stall]] [--curved [--increments 8]] [--rounds 2] [--detail]
-        [--tangent-check]
+        [--update-turn 0.03 [--no-stall]] [--curved [--increments 8]] [--rounds 2]
+        [--detail [--parts]] [--tangent-check [--check-load 1.8] [--every 1]]
 
 bai: plies-bai-5.1's stack (validation/cases/plies_bai_5_1.py); heavy: plies-heavy-cantilever's;
 deck and sag: plies-deck-of-cards' deck at its largest N on 20 cells and its heavy stack of the
@@ -423,6 +428,67 @@ Where the first increments go (``--detail``, coarse; the cases' solvers; one thr
   increment), but sag 397, 201 and heavy 382, 134 against 184 and 125; bai coarse's
   ``update_turn`` 0.03 and 0.1 rad: 289 (67 in the first displacement increment, 11-28 in
   later ones) and 260 (71).
+
+The second phase's increments (plies-bai-5.1, the case's solver; ``--detail --parts`` and
+``--tangent-check --check-load 1.8``; one thread, CPU, load 0.5-2.8; the trials by patches of the
+code, not kept, their counts the measure):
+
+* The counts: coarse (4 plies, 12 cells) 21-5-4-4-4-3-3-3-3-3 and 82-19-18-18-18-8-11-10-8-12,
+  257 iterations and 8 cut, 271 tangents, 1.4 s; default (8 plies, 30 cells)
+  24-7-7-5-4-3-3-3-3-3 and 123-33-34-31-19-19-21-19-15-22, 398 and none cut, 403 tangents, 9.6 s
+  (24 ms an iteration). After the first displacement increment every step is whole (scale 1, one
+  force pass an iteration), no facing triangle switches and no point enters the fade past the
+  outline: the line search and the facing play no part.
+* Each increment opens with the imposed step. Coarse, load 1.8 (10 iterations): the straight
+  update of the turning plies stretches their fibres, the membrane part of the residual 0.06 ->
+  23 N (bending 0.03 and transverse shear 0.06 N unchanged, the ply contact 0.05 -> 1.3 N), 23
+  points pushed deeper than the ramp (delta = 1.5e-3 mm), 5 new ones touching; the next iterate
+  takes the membrane back to 0.39 N and the 27 points onto the ramp; two more at ratio ~0.5,
+  then 1.5e-2 and a quadratic tail, broken once by a point leaving (6.1e-2). Default, load 1.8
+  (19 iterations): membrane 0.037 -> 11 N, contact 0.048 -> 1.3 N, 152 points past the ramp and
+  27 new ones touching; the membrane, bending and shear parts are at their final values (two
+  digits) from the 5th iterate, and the 14 iterations after it are the ply contact's alone: 31
+  points cross g = 0 (touching 230 -> 197, most leaving), the ratio restarted to 0.12-0.27 three
+  times and falling about 4 times an iteration between (the ramp's rate at zero-force contact,
+  "The deck's linear tail" above). Over the 17 converged attempts of the second phase,
+  iterations after the element parts settled: default 208 of 336, with 740 changes of a point's
+  touching in them; coarse 83 of 204 (mostly the quadratic tail), 41 changes. So two costs: the
+  imposed step's stretch (3-4 iterations an increment at both resolutions) and, at the default,
+  the contact's zero-force points settling one by one (5-17 iterations an increment).
+* The tangent is the forces' derivative at every iterate. Coarse, load 1.8, all 10 iterates: the
+  Mindlin plies within 3.6e-10 of the largest entry (central differences, 1e-6 of the median
+  edge), the three ply contacts within 2.0e-8, the whole residual along a random free direction
+  within 5.9e-9 (step 1e-5); default, load 1.8, iterates 0, 3, ..., 18: the plies 3.5e-10, the
+  contacts 4.2e-8 but one at the 6th iterate 4.3e-4 (7.9e-7 at the step 1e-9: a point within the
+  step of an end of the ramp, where the law's third derivative jumps by k / delta), the whole
+  residual 1.3e-8. No term is missing where points step on or off (none changes its facing
+  triangle).
+* Not kept: ``predictor=True`` (the last increment extrapolated): coarse 271 -> 399 tangents
+  (102-28-39-21-17-15-10-14-30-10, 56 cut), default 403 -> 595 (155-49-35-23-26-16-28-22-27-18,
+  130 cut); the ramp's secant W'/g = W''/2 in the tangent of the points whose gap grew since the
+  block's last tangent (a leaving point's Newton step halves g on the ramp; the secant takes it
+  to 0): coarse 482 tangents (121-38-39-38-42-27-18-21-18-27); on every point on the ramp:
+  failed at load factor 1.0002 (10 cuts); the fibre-length projection (solvers/newton_fibres.py)
+  on the imposed steps alone: coarse 1037 tangents and 392 cut; the step doubled where the last
+  two halve along one line (a double root, Decker, Keller and Kelley above; the step within
+  0.4-0.6 of the last and at a cosine above 0.99, the ratio below 0.1): taken once on coarse, 3
+  times on default, 272 and 401 tangents; ``Static(tol=1e-6)`` instead of 1e-8: coarse 253
+  tangents, within 2.9e-8 mm, default 380, within 1.2e-8 mm: the contact-only iterations run at
+  ratios 1e-3 to 0.3, above any tolerance; the ramp wider (``elements.ply_contact.SMOOTHING``
+  2e-3 and 5e-3 of the faces' half thicknesses instead of 1e-3), default: 353 and 407 tangents
+  (96-32-38-25-17-14-18-19-15-17; 127-29-35-25-16-12-17-18-9-17 and 50 cut), but the equilibrium
+  moved by 6.8e-3 and 2.4e-2 mm (the plies pressed deeper by the ramp).
+* What would cut them (not done): the zero-force points are weakly active (g ~ 0 and W'(g) ~ 0
+  at the solution), where the ramp's W'' vanishes and the tangent cannot see a point step on or
+  off. A semismooth Newton on the normal contact with a multiplier per point (the augmented
+  Lagrangian of Alart and Curnier, CMAME 92 (1991) 353, in its Newton form, the active set set
+  by lambda + c g at every iteration, not at convergence as the primal-dual set tried on the
+  deck above) converges superlinearly without strict complementarity (Hintermueller, Ito and
+  Kunisch, SIAM J. Optim. 13 (2002) 865): the 5-17 contact-only iterations of a default
+  increment would become the 2-3 of a quadratic tail (an estimate: the second phase 336 ->
+  ~170). The imposed step's stretch would need a step that turns the plies without stretching
+  them; the curved imposed step (above, 271 -> 628 tangents) and its fibre-length projection
+  (1037) do worse.
 """
 
 from __future__ import annotations
@@ -496,6 +562,58 @@ def _split(model, state, plies) -> dict:
     return {"elements": float(elements), "contacts": float(contacts), "deepest": deepest}
 
 
+# The section measures of the Mindlin fabric section (elements/fabric_section.py): membrane
+# strains y[0:3], bending strains y[3:6], transverse shear's tying changes y[6:10].
+SECTION_PARTS = {"membrane": slice(0, 3), "bending": slice(3, 6), "shear": slice(6, 10)}
+
+
+def _residual_parts(run, state, frames) -> dict:
+    """The residual's parts at ``state`` on the free unknowns (N, the generalised moments over
+    the median element edge, as the convergence test counts them): the plies' membrane,
+    bending and transverse-shear loads (each the section's stress resultants dW/dy of that
+    group alone carried by the element's B), the ply contact's, and the dead load's."""
+    from elements.fabric_section import response
+    from elements.mindlin_fabric import MindlinFabricBlock
+    from elements.mindlin_fabric_loads import fabric_cell_loads
+    from elements.mindlin_tables import _TYING_N
+
+    model = run.model
+    dofs, size = model.dofs, model.element_size
+    out: dict = {}
+
+    def norm(force, moment) -> float:
+        r = dofs.generalised(frames, force, moment)
+        r = np.where(dofs.free, r, 0.0)
+        r[:, 3:] /= size
+        return float(np.linalg.norm(r))
+
+    totals = {
+        key: [np.zeros((model.n_nodes, 3)), np.zeros((model.n_nodes, 3))] for key in SECTION_PARTS
+    }
+    for block in model.blocks:
+        if not isinstance(block, MindlinFabricBlock):
+            continue
+        x = state.positions[block.connectivity]
+        v = state.directors[block.connectivity]
+        gradient = response(block.section, block._measures(x, v), hessian=False).gradient
+        for key, part in SECTION_PARTS.items():
+            masked = np.zeros_like(gradient)
+            masked[:, part] = gradient[:, part]
+            force, moment = fabric_cell_loads(
+                x, v, block.zeta, block.h, _TYING_N, masked, block._products()[0]
+            )
+            totals[key][0] += block.scatter.vectors(force)
+            totals[key][1] += block.scatter.vectors(moment)
+    for key, (force, moment) in totals.items():
+        out[key] = norm(force, moment)
+    others = list(range(len(model.blocks), len(model.parts)))
+    if others:
+        out["contact"] = norm(*model.internal_force(state, others))
+    force, moment, _ = run.solver.loads(model, state.load_factor)
+    out["load"] = norm(force, moment)
+    return out
+
+
 def instrument() -> None:
     """Wrap the solver's pieces to record (module docstring); RECORD holds the attempts."""
     RECORD.update(attempts=[], iterations=[])
@@ -529,6 +647,8 @@ def instrument() -> None:
         row = {"touching": touching, "ramp": ramp, "faded": faded, "scale": None, "trials": 0}
         if RECORD.get("split"):
             row.update(_split(self.model, state, plies))
+        if RECORD.get("parts"):
+            row["parts"] = _residual_parts(self, state, frames)
         if RECORD.get("last_ply") is not None:
             row.update(_changes(RECORD["last_ply"], plies))
         RECORD["last_ply"] = plies
@@ -619,14 +739,15 @@ def solve_case(
     raise ValueError(f"case {name!r}: expected bai, heavy, deck or sag")
 
 
-def tangent_check(name: str, resolution: str, every: int = 15) -> None:
+def tangent_check(name: str, resolution: str, every: int = 15, load: float | None = None) -> None:
     """The tangent against central differences on the last increment's iterates of case
-    ``name`` (module docstring, "The deck's linear tail"): per part, the largest difference
-    between its own tangent and central differences of its forces (the solver's step, 1e-6 of
-    the median element edge, and 1e-9), over the largest entry; per ply contact, its points
-    with |g| < delta, those touching, its force; and the whole residual's directional
-    derivative (the frames re-evaluated at each side, as the Newton iteration does) along a
-    random unit direction against -K v."""
+    ``name`` (or, with ``load``, those of the converged attempt at that load factor; module
+    docstring, "The deck's linear tail" and "The second phase's increments"): per part, the
+    largest difference between its own tangent and central differences of its forces (the
+    solver's step, 1e-6 of the median element edge, and 1e-9), over the largest entry; per
+    ply contact, its points with |g| < delta, those touching, its force; and the whole
+    residual's directional derivative (the frames re-evaluated at each side, as the Newton
+    iteration does) along a random unit direction against -K v."""
     from femcore.assembly import finite_difference_tangent
     from solvers.newton import Residual
 
@@ -642,7 +763,16 @@ def tangent_check(name: str, resolution: str, every: int = 15) -> None:
         solve_case(name, resolution)  # the case's own solver
     finally:
         static_module.StaticRun.tangent = plain  # type: ignore[method-assign]
-    last = [entry for entry in captured if entry[1].load_factor >= captured[-1][1].load_factor]
+    if load is None:
+        load = captured[-1][1].load_factor
+    at = [abs(entry[1].load_factor - load) < 1e-9 for entry in captured]
+    if not any(at):
+        raise ValueError(f"no increment at load factor {load}: expected one the solve reached")
+    end = len(at) - at[::-1].index(True)  # the last attempt at that load: the converged one
+    start = end
+    while start > 0 and at[start - 1]:  # the trailing run of tangents at that load
+        start -= 1
+    last = captured[start:end]
     run = last[0][0]
     model, dofs = run.model, run.model.dofs
     free = dofs.free_slots
@@ -757,6 +887,11 @@ def report(result) -> None:
             print("   |F| elements/contacts N, deepest gap mm " + " ".join(
                 f"{row['elements']:.2g}/{row['contacts']:.2g}/{row['deepest']:.2g}"
                 for row in its))  # fmt: skip
+        if its and "parts" in its[0]:
+            print("   |F| free membrane/bending/shear/contact/load N " + " ".join(
+                "/".join(f"{row['parts'].get(k, 0.0):.2g}" for k in
+                         ("membrane", "bending", "shear", "contact", "load"))
+                for row in its))  # fmt: skip
         keys = ("in", "out", "ramp_in", "ramp_out", "triangle", "sign")
         print("   changes (in,out,ramp in,ramp out,triangle,sign) " + " ".join(
             ",".join(str(row.get(k, "-")) for k in keys) for row in its[1:]))  # fmt: skip
@@ -804,6 +939,20 @@ def main() -> None:
         help="the tangent against central differences on the last increment (no timing)",
     )
     parser.add_argument(
+        "--check-load",
+        type=float,
+        default=None,
+        help="with --tangent-check: the increment converged at this load factor (default the last)",
+    )
+    parser.add_argument(
+        "--every", type=int, default=15, help="with --tangent-check: every this many iterates"
+    )
+    parser.add_argument(
+        "--parts",
+        action="store_true",
+        help="with --detail: the residual's membrane, bending, shear and contact parts per iterate",
+    )
+    parser.add_argument(
         "--rounds", type=int, default=1, help="solve both sides this many times, alternately"
     )
     parser.add_argument(
@@ -818,10 +967,11 @@ def main() -> None:
         print(f"load (1, 5, 15 min): {np.round(os.getloadavg(), 2).tolist()}")
         return
     if args.tangent_check:
-        tangent_check(args.case, args.resolution)
+        tangent_check(args.case, args.resolution, args.every, args.check_load)
         return
     instrument()
     RECORD["split"] = args.detail  # two more force passes an iterate, outside the counts
+    RECORD["parts"] = args.detail and args.parts
     stall = None if args.no_stall else args.stall
     runs: list[tuple[int | None | str, float | None | str, float | None | str]]
     curved: list[bool | None] = [None, None]
