@@ -107,7 +107,7 @@ def turns(name: str, resolution: str, counts: list[int], rounds: int) -> None:
         if cells != spec.cells[resolution]
         for kinematics in ORDER_KINEMATICS
     ]
-    every = [spec.increments, *counts]
+    every = [spec.increments, *(n for n in counts if n != spec.increments)]
     sums: dict[int, list[float]] = {n: [] for n in every}
     for round_ in range(rounds):
         order = every[round_ % len(every) :] + every[: round_ % len(every)]

@@ -4,7 +4,8 @@ hemisphere of the report's hemisphere-plies case (Mindlin [0/90] by default, 8 c
 step ``--start``, then ``--steps`` committed states replayed through both ply contact blocks
 (as benchmarks/ply_chain_parts.py), each round from the blocks as they were at ``--start``,
 the two ways alternating round by round (the first of each pair in turn), best of
-``--rounds``, CPU (``time.process_time``), one numba thread. The ways:
+``--rounds``, CPU (``time.process_time``; run it with NUMBA_NUM_THREADS=1: the passes are
+serial, the blank small). The ways:
 
 * fused: the new state's directions, faces, ``toward`` and the search lists' moves in one
   compiled call (elements/ply_facing_front.py ``FUSED``), the points leaving the face chosen
@@ -20,8 +21,11 @@ two ways must give the same digest.
 Measured (one thread, 2 cores shared with other jobs), us a block-step, chained -> fused:
 Mindlin [0/90] steps 8000-8300 301.6 -> 279.8 (x 1.078, load 2.4; 344.5 -> 318.5 at load
 4.9), fibrous [0/90] steps 2000-2300 337.2 -> 309.6 (x 1.089, load 2.5); the same digests
-(f303b98e44987fda, 7a4e2dea0f3a42a9). The whole run beside the code before:
-benchmarks/forming_step_overhead.py, its ninth round.
+(f303b98e44987fda, 7a4e2dea0f3a42a9). Each cut alone (a one-off patch of the flags, not this
+script's ways; steps 8000-8300, best of 12, load 2.6): chained 292.9 / 297.8, the fused
+facing alone 285.6 / 293.2, the rows chosen in the pass alone 286.4 / 291.2, both 277.1 /
+286.6 (two runs; x 1.04-1.06 together, about 2 % each). The whole run beside the code before:
+benchmarks/forming_step_overhead.py, its tenth round.
 """
 
 from __future__ import annotations

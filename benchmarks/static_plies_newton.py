@@ -429,9 +429,11 @@ Where the first increments go (``--detail``, coarse; the cases' solvers; one thr
   ``update_turn`` 0.03 and 0.1 rad: 289 (67 in the first displacement increment, 11-28 in
   later ones) and 260 (71).
 
-The second phase's increments (plies-bai-5.1, the case's solver; ``--detail --parts`` and
-``--tangent-check --check-load 1.8``; one thread, CPU, load 0.5-2.8; the trials by patches of the
-code, not kept, their counts the measure):
+The second phase's increments (plies-bai-5.1, the case's solver: ``--first-turn 0.1 --detail
+--parts``, its second run's figures, and ``--first-turn 0.1 --tangent-check --check-load 1.8``;
+``--resolution default`` for the default stack; ``--detail --parts`` alone runs the solver
+without the first-turn rule: coarse 975 and 403 tangents; one thread, CPU, load 0.5-2.8; the
+trials by patches of the code, not kept, their counts the measure):
 
 * The counts: coarse (4 plies, 12 cells) 21-5-4-4-4-3-3-3-3-3 and 82-19-18-18-18-8-11-10-8-12,
   257 iterations and 8 cut, 271 tangents, 1.4 s; default (8 plies, 30 cells)
@@ -450,7 +452,10 @@ code, not kept, their counts the measure):
   digits) from the 5th iterate, and the 14 iterations after it are the ply contact's alone: 31
   points cross g = 0 (touching 230 -> 197, most leaving), the ratio restarted to 0.12-0.27 three
   times and falling about 4 times an iteration between (the ramp's rate at zero-force contact,
-  "The deck's linear tail" above). Over the 17 converged attempts of the second phase,
+  "The deck's linear tail" above). Over the 17 (default; coarse 18) converged attempts of the
+second phase, counted by hand from ``--detail --parts`` (an iteration the contact's alone once the
+element parts no longer change in their first two digits; the first displacement increment's
+iterations in the counts),
   iterations after the element parts settled: default 208 of 336, with 740 changes of a point's
   touching in them; coarse 83 of 204 (mostly the quadratic tail), 41 changes. So two costs: the
   imposed step's stretch (3-4 iterations an increment at both resolutions) and, at the default,
@@ -485,9 +490,10 @@ code, not kept, their counts the measure):
   by lambda + c g at every iteration, not at convergence as the primal-dual set tried on the
   deck above) converges superlinearly without strict complementarity (Hintermueller, Ito and
   Kunisch, SIAM J. Optim. 13 (2002) 865): the 5-17 contact-only iterations of a default
-  increment would become the 2-3 of a quadratic tail (an estimate: the second phase 336 ->
-  ~170). The imposed step's stretch would need a step that turns the plies without stretching
-  them; the curved imposed step (above, 271 -> 628 tangents) and its fibre-length projection
+  increment would become the 2-3 of a quadratic tail (a guess, not derived: the target is the
+  default's 403 tangents; docs/theory.md §9.3a says what the method would take). The
+  imposed step's stretch would need a step that turns the plies without stretching them; the
+  curved imposed step (above, 271 -> 628 tangents) and its fibre-length projection
   (1037) do worse.
 """
 

@@ -64,7 +64,8 @@ def leaving(block: PlyContactBlock, history: PlyFrictionHistory, facing: Facing)
     elements/ply_departure_kernels.py, both take it): anchored then, touching then by their
     side and not now, their point now finite (their gap now to a plane, an edge or a vertex).
     The ones among them with no gap to their anchor's triangle's plane now are left out after
-    (not lifted off it). None without friction or sides."""
+    (not lifted off it). None without friction or sides. (Written again, test by test, in
+    the friction's history pass, elements/ply_friction_pass.py ``_leaving``: change both.)"""
     sides = history.sides
     if sides is None or block.friction <= 0.0:
         return np.zeros(0, dtype=np.int64)

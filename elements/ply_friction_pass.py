@@ -190,6 +190,8 @@ def history_pass(
     )
     last_triangle, last_anchor, last_slip, last_pressing = last
     chosen = _NO_SIDES  # the last sides where the pass chooses the rows
+    if block.friction <= 0.0:  # ply_departure.leaving's rule: none leaves without friction
+        select, leaving = False, None
     if sides is not None and (select or (leaving is not None and len(leaving))):
         before, then = sides.corners, sides.faces
         chosen = writable(sides.sides, np.int8) if select else chosen
