@@ -270,7 +270,7 @@ on the starting state, load 10; 0.67 s of it the fibrous tangent's pieces, 0.08 
 Gershgorin sums of femcore/gershgorin.py) spread over the 670 steps. Over the stroke it is
 evaluated again when the cells' bound has moved by half the room it had below it (20 % at
 the start, 7 % at 0.9 of the stroke on the 20-cell blank) or after 4000 steps
-(solvers/explicit.py ASSEMBLED_DT_MAX): some 35-40 evaluations in 133.8k steps, 0.2 ms a
+(solvers/explicit_step_size.py ASSEMBLED_DT_MAX): some 35-40 evaluations in 133.8k steps, 0.2 ms a
 step. Those quiet figures so corrected, the stroke would take about 24 min on one thread and
 16 min on two (10.8 and 7.3 ms a step); threading the Gershgorin sums would take at most 0.08
 s of CPU off each evaluation (1 % of the assembled bound's share), not done.

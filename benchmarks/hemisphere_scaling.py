@@ -214,9 +214,9 @@ def assembled_alone(self, model, state, scale, mass, inertia=None, step=0) -> fl
     """The step of ``--bound assembled`` (not the library's): safety x the assembled
     Gershgorin bound alone (evaluated every ASSEMBLED_DT_EVERY steps, carried in between in
     proportion to the cells' bound), the cells' bound only until it is first evaluated; the
-    springs and the damping as the library takes them (solvers/explicit.py ``_step_size``);
-    at each evaluation the bound carried to it over the one evaluated there is kept in
-    OVERSHOOT (above 1: the carried bound was above the fresh one)."""
+    springs and the damping as the library takes them (solvers/explicit_step_size.py
+    ``_step_size``); at each evaluation the bound carried to it over the one evaluated there is
+    kept in OVERSHOOT (above 1: the carried bound was above the fresh one)."""
     cell_dt = model.cell_stable_dt(state)
     if scale is not None:
         cell_dt = [dt * np.sqrt(s) for dt, s in zip(cell_dt, scale)]

@@ -1,6 +1,6 @@
 """What sets the explicit step of the hemisphere forming case (validation/cases/
-hemisphere_forming.py): the bounds the solver (solvers/explicit.py ``_step_size``) combines,
-beside the exact 2 / omega_max of the blank, at the start and at states of the stroke.
+hemisphere_forming.py): the bounds the solver (solvers/explicit_step_size.py ``_step_size``)
+combines, beside the exact 2 / omega_max of the blank, at the start and at states of the stroke.
 
 At each state, printed (s): the cells' own bound (``cell_stable_dt``, min over the cells),
 the assembled Gershgorin bound of the elements (``assembled_stable_dt``), the exact 2 /

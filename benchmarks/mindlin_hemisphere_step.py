@@ -1,7 +1,7 @@
 """The Mindlin hemisphere's explicit step along the stroke (validation/cases/hemisphere_forming.py
 ``run``, unscaled, one ply): the step the solver takes, the cells' bound and the assembled
-Gershgorin bound it combines (solvers/explicit.py ``_step_size``) at fractions of the stroke,
-the steps of the whole stroke and the run's results, to be run on two versions of the code
+Gershgorin bound it combines (solvers/explicit_step_size.py ``_step_size``) at fractions of the
+stroke, the steps of the whole stroke and the run's results, to be run on two versions of the code
 side by side (each prints the load).
 
     python benchmarks/mindlin_hemisphere_step.py --cells 20,28

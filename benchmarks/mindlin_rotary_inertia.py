@@ -302,7 +302,7 @@ def springs(case: str, factor: float | str, slowing: float) -> dict:
     the penalty's step over the critical step, the springs' largest omega^2 (max over the
     nodes of sum k / m, every tool and ply spring at the node) as a share of the cells' (2 /
     dt)^2, and the step factor 1 / sqrt(1 + share) the explicit step takes them in with
-    (solvers/explicit.py ``_lowered``). ``factor`` "fibrous": the fibrous blank."""
+    (solvers/explicit_step_size.py ``_lowered``). ``factor`` "fibrous": the fibrous blank."""
     from validation.cases import hemisphere_forming as forming_case
     from validation.studies import hemisphere_plies_run as study
     from validation.studies.hemisphere_plies_setup import HOLDER_FORCES, LAYUPS

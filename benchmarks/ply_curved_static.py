@@ -1,6 +1,6 @@
 """Static on a frictional two-ply stack with curved faces (``PlyContact(surface="curved")``):
 the curved loads' exact tangent (elements/ply_curved_tangent.py) against the tangent before,
-the flat facet's at the curved projection (``ply_block.CURVED_TANGENT = False``), side by
+the flat facet's at the curved projection (``ply_block_tangent.CURVED_TANGENT = False``), side by
 side in one process.
 
 The model: a [0/45] Mindlin layup (40 mm square, ``CELLS`` cells, mu = 0.2, curved faces,
@@ -37,7 +37,7 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # run from anywhere, no install
 
-from elements import ply_block
+from elements import ply_block_tangent
 from elements.layup import Layup
 from materials import Fabric
 from solvers import Static
@@ -71,7 +71,7 @@ def main(argv: list[str]) -> None:
     print(f"load {os.getloadavg()}", flush=True)
     finals = {}
     for label, exact in (("flat tangent (before)", False), ("exact tangent", True)):
-        ply_block.CURVED_TANGENT = exact
+        ply_block_tangent.CURVED_TANGENT = exact
         model = build(cells)
         start = time.process_time()
         try:

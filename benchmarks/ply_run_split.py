@@ -79,7 +79,7 @@ PARTS = (
     ("  friction history pass", "elements/ply_friction_pass.py", "history_pass"),
     ("tool contacts' forces", "femcore/compiled.py", "tool_forces"),
     ("ply loads", "elements/ply_block.py", "internal_force"),
-    ("stable step", "solvers/explicit.py", "_step_size"),
+    ("stable step", "solvers/explicit_step_size.py", "_step_size"),
     ("  ply springs' bound", "elements/ply_springs.py", "reachable_springs"),
     ("Mindlin shell force", "elements/mindlin.py", "internal_force"),
     ("kept-bits tests", "elements/kept_bits.py", "same_bits"),

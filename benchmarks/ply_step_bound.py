@@ -1,7 +1,7 @@
 """What sets the two-ply hemisphere's explicit step (validation/studies/hemisphere_plies_run.py,
 8 cells, holder 20 N, the [0/90] layup): at states of the case's run, the bound the solver
-steps by (solvers/explicit.py ``_step_size``: the cells' estimate (2 / dt_cells)^2 plus the
-largest sum over a node of the penalty springs' k / m, femcore/compiled.py
+steps by (solvers/explicit_step_size.py ``_step_size``: the cells' estimate (2 / dt_cells)^2 plus
+the largest sum over a node of the penalty springs' k / m, femcore/compiled.py
 ``penalty_frequency_squared``) beside the largest eigenvalue of M^-1 K at that state (K the
 parts' own tangent over the free slots, M the lumped masses and rotary inertias; scipy's
 eigsh), of the elements alone and of every part (the contacts' tangents with them).

@@ -43,14 +43,14 @@ from validation.cases import CASES  # noqa: E402
 
 # phase -> (file ending, function name) of the functions whose cumulative time it is
 PHASES = {
-    "models' compile": [("solvers/static.py", "__init__")],
-    "tangents": [("solvers/static.py", "tangent")],
+    "models' compile": [("solvers/static_run.py", "__init__")],
+    "tangents": [("solvers/static_run.py", "tangent")],
     "factorisations": [("solvers/linear.py", "factorise")],
     "  split of K_ff": [("solvers/linear.py", "split_and_norm")],
     "  new pattern's choice": [("solvers/linear.py", "_choose_band")],
     "solves": [("solvers/linear.py", "solve")],
     "residuals": [("solvers/newton.py", "residual")],
-    "frames": [("solvers/static.py", "frame")],
+    "frames": [("solvers/static_run.py", "frame")],
 }
 
 

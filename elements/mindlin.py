@@ -25,7 +25,7 @@ import numpy as np
 
 from elements import kernels
 from elements.base import CellTangent, ElementBlock, ElementType, check_positive, local_tangent
-from elements.mindlin_steps import element_omega2, penalty_stable_dt, reference_steps
+from elements.mindlin_steps import cell_stable_dt, cheap_omega2, element_omega2, penalty_stable_dt
 from elements.mindlin_tables import (
     _IN_PLANE,
     _PACKED_COLUMNS,
@@ -37,8 +37,6 @@ from elements.mindlin_tables import (
     _packed,
     _product_coefficients,
     _turned_gradient_table,
-    inverse_metric,
-    largest_stretch2,
 )
 from elements.mindlin_tangent import mindlin_tangent_blocks
 from elements.rotary_scaling import rotary_mode, scaled_rotary_inertia
@@ -46,7 +44,6 @@ from femcore.assembly import Scatter
 from femcore.checks import as_reals
 from femcore.field_names import name_components
 from femcore.gershgorin import banded_piece
-from femcore.memory import small_pages
 from femcore.mesh import Mesh
 from femcore.rotation import cross
 from femcore.state import State
@@ -681,52 +678,16 @@ class MindlinShellBlock(ElementBlock):
         return mass, inertia
 
     def cell_stable_dt(self, state: State) -> np.ndarray:
-        """Critical step per cell, 2 / omega (docs/theory.md §6.2, B4): omega^2 the largest
-        eigenvalue of each element's K_e phi = omega^2 M_e phi (its tangent and its share of
-        the lumped masses and rotary inertias), which bounds that of the assembly (Irons:
-        the Rayleigh quotient of a sum is at most the largest of the elements'). It is
-        computed once, in the reference configuration (as a factor on the cheap bound
-        ``_cheap_omega2``), and follows the deformation at each call as the element's
-        Green-Lagrange strains do: omega^2 times the largest squared in-plane stretch, at
-        least 1 (B5). Cells of the same reference shape (edges and directors equal to the
-        bit: the cells of a structured mesh) share one eigenvalue problem.
-        """
-        if self._step_calibration is None:
-            # once, on (m, 3, 3) temporaries: ordinary pages (femcore/memory.py)
-            with small_pages():
-                steps, self._step_calibration = reference_steps(self, self.rotary_factor)
-                self._reference_steps = steps
-                self._inverse_metric = inverse_metric(self._reference_cells()[0])
-        if self.kernel == "compiled":  # the explicit solver asks every 10 steps: one loop
-            return kernels.mindlin_cell_steps(
-                self, state.positions, self._reference_steps, self._inverse_metric
-            )
-        stretch2 = largest_stretch2(state.positions[self.connectivity], self._inverse_metric)
-        return self._reference_steps / np.sqrt(np.maximum(stretch2, 1.0))
-
-    def _cheap_terms(self, rotary_factor: np.ndarray | None = None) -> tuple[float, np.ndarray]:
-        """(a, b) of ``_cheap_omega2`` = a sum_k 1 / h_k^2 + b: a = 3 / rho (max(Q11, Q22) +
-        Q66 + kappa G), N/mm^2 / (t/mm^3); b (m,) = kappa G / (2 rho j), 1/s^2, j
-        ``rotary_factor`` (m,), mm^2 (default: the block's)."""
-        q = self.material.plane_stress
-        shear = float(np.max(self.material.transverse))
-        rho = self.material.density
-        translational = 3.0 / rho * (max(q[0, 0], q[1, 1]) + q[2, 2] + shear)
-        j = self.rotary_factor if rotary_factor is None else rotary_factor
-        return translational, shear / (2.0 * rho * j)
+        """Critical step per cell, 2 / omega, s (m,) (docs/theory.md §6.2, B4-B5: the
+        element eigenvalue bound in the reference configuration, followed by the stretch;
+        elements/mindlin_steps.py ``cell_stable_dt``)."""
+        return cell_stable_dt(self, state)
 
     def _cheap_omega2(self, x: np.ndarray, rotary_factor: np.ndarray | None = None) -> np.ndarray:
-        """omega^2 (m,) of docs/theory.md §6.2 B1-B2 from the corner positions x (m, 3, 3):
-        the trace bound of M^-1 K for the translations of a linear triangle with lumped mass
-        rho h A / 3, 3 / rho (max(Q11, Q22) + Q66 + kappa G) sum_k 1 / h_k^2 (h_k the
-        altitudes), plus kappa G / (2 rho j) for the rotations (j the rotary factor). It
-        follows the geometry, not the element's actual modes: on cells of aspect 10 it fell
-        below the element eigenvalue (an unstable step), on regular cells it is above."""
-        sides = np.linalg.norm(x[:, [2, 0, 1]] - x[:, [1, 2, 0]], axis=-1)  # opposite node k
-        area2 = np.linalg.norm(cross(x[:, 1] - x[:, 0], x[:, 2] - x[:, 0]), axis=1)
-        inverse_heights2 = np.sum((sides / area2[:, None]) ** 2, axis=1)
-        translational, rotational = self._cheap_terms(rotary_factor)
-        return translational * inverse_heights2 + rotational
+        """omega^2 (m,) of docs/theory.md §6.2 B1-B2 from the corner positions x (m, 3, 3), j
+        ``rotary_factor`` (m,) mm^2 (default: the block's) (elements/mindlin_steps.py
+        ``cheap_omega2``)."""
+        return cheap_omega2(self, x, rotary_factor)
 
     def element_omega2(
         self, x: np.ndarray, v: np.ndarray, cells: np.ndarray | None = None

@@ -1,9 +1,9 @@
 """The bound ply contact (``PlyContact.bind``, elements/ply_contact.py, whose docstring
 describes the mechanics): its contact points and their penalties, the search of the facing
-triangles, the normal loads and their exact tangent on flat facets, the friction's history and
-the protocol's extras (springs, node fields). The curved faces' projection and loads are in
-elements/ply_curved.py, the friction's return mapping in elements/ply_friction.py, the
-facing search and the penalty law in elements/ply_projection.py.
+triangles, the normal loads, the friction's history and the protocol's extras (springs, node
+fields). The loads' exact tangent is in elements/ply_block_tangent.py, the curved faces'
+projection and loads in elements/ply_curved.py, the friction's return mapping in
+elements/ply_friction.py, the facing search and the penalty law in elements/ply_projection.py.
 """
 
 from __future__ import annotations
@@ -14,17 +14,15 @@ import numpy as np
 from scipy.spatial import cKDTree
 
 from elements import (
-    ply_carry,
+    ply_block_tangent,
     ply_curved,
     ply_curved_friction,
-    ply_curved_tangent,
     ply_face_points,
     ply_facing_front,
     ply_friction,
     ply_friction_kernels,
     ply_landing_kept,
     ply_load_kernels,
-    ply_point_tangent,
     ply_projection,
     ply_sides,
     ply_slip,
@@ -33,12 +31,8 @@ from elements import (
 )
 from elements.contact_penalty import PENALTY_SHARE, automatic_penalty
 from elements.kept_bits import same_bits
-from elements.ply_fade import (
-    OutlineTree,
-    fade_length,
-    outline_segments,
-)
-from elements.ply_fade_hessian import fade_hessian
+from elements.ply_fade import OutlineTree, fade_length, outline_segments
+from elements.ply_fade import point_fade as _fade  # the name the block's loads call
 from elements.ply_friction import PlyFrictionHistory, Sliding
 from elements.ply_projection import (
     MARGIN,
@@ -70,10 +64,6 @@ HESSIAN_WITH_LOADS = True
 #: The facing before the last kept too (``PlyContactBlock.facing``); False: the last alone, as
 #: before (benchmarks/ply_static_parts.py compares the two).
 KEEP_FACING_BEFORE = True
-#: The curved faces' tangent is their loads' exact derivative (elements/ply_curved_tangent.py,
-#: elements/ply_curved_friction.py); False: the flat facet's at the curved projection, normal
-#: and friction, the tangent before (benchmarks/ply_curved_static.py compares the two).
-CURVED_TANGENT = True
 #: Contact points of an upper triangle: name -> (barycentric coordinates (Q, 3), weights
 #: (Q,) summing to 1).
 RULES = {
@@ -86,15 +76,6 @@ RULES = {
     # the corners too, but one point per node (PlyContactBlock: the same loads)
     "nodes": (np.eye(3), np.full(3, 1.0 / 3.0)),
 }
-
-
-def _fade(facing: Facing, on: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """The fade w (t,) past the outline of the points ``on`` (t,) and dw/dz (t, 6, 3), 1/mm,
-    over z = (p, y_1, y_2, y_3, a, b), a and b the ends of the outline's edge nearest the
-    point (elements/ply_fade.py; 1 and 0 where the facing carries none: the curved faces)."""
-    if facing.fade is None or facing.fade_gradient is None:
-        return np.ones(len(on)), np.zeros((len(on), 6, 3))
-    return facing.fade[on], facing.fade_gradient[on]
 
 
 class PlyContactBlock(InteractionBlock):
@@ -577,53 +558,9 @@ class PlyContactBlock(InteractionBlock):
         return energy
 
     def tangent(self, state: State, history: Any = None) -> list[TangentPart]:
-        """Exact d(force, moment)/d(u, psi) of the touching points, (t, 6, 6, 6, 6).
-
-        Over z = (p, y_1, y_2, y_3): Hess W = W'' G G^T + W' H with G = (n, -lambda_k n) the
-        gradient of g and H its Hessian, from dn/dy_m = -grad phi_m n^T and dlambda_k =
-        grad phi_k . (dp - g dn - sum_m lambda_m dy_m): H_pp = 0, H_p,m = -grad phi_m n^T,
-        H_k,m = -g (grad phi_k . grad phi_m) n n^T + lambda_m n grad phi_k^T + lambda_k
-        grad phi_m n^T. Carried to the nodes by dp = sum_j N_j (du_j - c_j [d_j]x psi_j) and
-        dy_k = du_k - c_k [d_k]x psi_k (c = -a for the upper corners, b for the lower ones,
-        psi the director's rotation), with the geometric term of the turned offset,
-        d(c d x F)/dpsi = c (d F^T - (F . d) I), on each node's psi-psi block. Where a point
-        faces an edge or a vertex, H is the search's (elements/ply_projection.py). On the
-        curved faces, sparse matrices over all the nodes: elements/ply_curved_tangent.py (the
-        normal loads) and elements/ply_curved_friction.py (the friction's).
-        """
-        if self.curved and CURVED_TANGENT:  # the curved loads' exact derivative
-            facing = self._held(state, history)
-            curved: list[TangentPart] = [ply_curved_tangent.curved_tangent(self, state, facing)]
-            if self._frictional(history):  # a landing anchor moving (ply_landing.py)
-                curved.append(
-                    ply_curved_friction.curved_friction_tangent(self, state, history, facing)
-                )
-            return curved
-        facing = self._held(state, history, second=True)
-        if ply_projection.COMPILED:  # the forces made in the pass (ply_point_tangent.py)
-            on, law, nodes, offset = self._pair_rows(facing)
-        else:
-            nodes, forces, _, on, offset, law = self._pair_loads(state, facing)
-        g = facing.gap[on]
-        n, lam, grad = facing.normal[on], facing.weights[on], facing.gradients[on]
-        gradient = np.concatenate([n[:, None, :], -lam[:, :, None] * n[:, None, :]], axis=1)
-        fade, fading = _fade(facing, on)
-        # Points facing the closest point q on an edge or at a vertex (ply_projection.py,
-        # "Search"): g = +-|p - q|, its Hessian over z given by the search.
-        searched = None if facing.hessian is None else facing.hessian[on]
-        d = self.offset_directions(state)[nodes]  # (t, 6, 3)
-        rows = (g, n, lam, grad, searched, fade, law, d, offset, self.shape[on])
-        if ply_projection.COMPILED:
-            blocks = ply_point_tangent.point_blocks(*rows, fading=fading)
-        else:
-            blocks = ply_point_tangent.point_blocks_reference(*rows, forces)
-        parts: list[TangentPart] = [CellTangent(nodes, blocks)]
-        faded = np.flatnonzero(np.any(fading != 0.0, axis=(1, 2)))
-        if faded.size:
-            parts.append(self._fade_tangent(state, facing, on[faded], gradient[faded], law, faded))
-        if self._frictional(history):
-            parts.append(ply_friction.friction_tangent(self, state, history, facing))
-        return parts
+        """Exact d(force, moment)/d(u, psi) of the touching points, (t, 6, 6, 6, 6)
+        (elements/ply_block_tangent.py, ``tangent``)."""
+        return ply_block_tangent.tangent(self, state, history)
 
     def _fade_tangent(
         self,
@@ -634,62 +571,14 @@ class PlyContactBlock(InteractionBlock):
         law: tuple,
         faded: np.ndarray,
     ) -> CellTangent:
-        """The fade's part of the tangent of the points ``rows`` (f,) (elements/ply_fade.py):
-        Hess (w W) - w Hess W = W' (dg dw^T + dw dg^T) + W Hess w over z = (p, y_1, y_2,
-        y_3, a, b), Hess w in closed form (elements/ply_fade_hessian.py), dg/dz = ``gradient``
-        (f, 4, 3); carried to the upper triangle's, the facing triangle's and the outline
-        edge's nodes (f, 8), with the turned offsets of the ends' forces W dw/da, W dw/db
-        (the other nodes' are in the main part, whose forces hold the fade's)."""
-        f = len(rows)
-        energy, slope = law[0][faded], law[1][faded]
-        fading = _fade(facing, rows)[1]
-        g6 = np.zeros((f, 6, 3))
-        g6[:, :4] = gradient
-        cross = g6[:, :, :, None, None] * fading[:, None, None, :, :]
-        points = slope[:, None, None, None, None] * (cross + np.transpose(cross, (0, 3, 4, 1, 2)))
-        ends_nodes, ends_offset = self.fade_ends(facing, rows)
-        points += energy[:, None, None, None, None] * self.fade_hessian_at(state, facing, rows)
-        nodes = np.column_stack([self.above[rows], self.cells[facing.triangle[rows]], ends_nodes])
-        offset = np.column_stack(
-            [
-                -self.lever * self.upper_offset[rows],
-                self.lever * self.corner_offset[facing.triangle[rows]],
-                ends_offset,
-            ]
-        )
-        d = self.offset_directions(state)[nodes]  # (f, 8, 3)
-        blocks = ply_carry.carry(points, ply_carry.own_maps(offset, d), self.shape[rows])
-        forces = energy[:, None, None] * fading[:, 4:]  # on the ends
-        ply_carry.add_turned_offsets(blocks, offset[:, 6:], d[:, 6:], forces, 6)
-        return CellTangent(nodes, blocks)
+        """The fade's part of the tangent of the points ``rows`` (f,)
+        (elements/ply_block_tangent.py, ``fade_tangent``)."""
+        return ply_block_tangent.fade_tangent(self, state, facing, rows, gradient, law, faded)
 
     def fade_hessian_at(self, state: State, facing: Facing, rows: np.ndarray) -> np.ndarray:
         """Hess w (f, 6, 3, 6, 3), 1/mm^2, of the fade of the points ``rows`` (f,) whose fade
-        moves (dw/dz != 0) over z = (p, y_1, y_2, y_3, a, b) (elements/ply_fade_hessian.py)."""
-        p, y = self._faces(state)
-        assert facing.reach is not None and facing.on_growth is not None
-        assert facing.fade_edge is not None
-        ends_nodes = self.fade_ends(facing, rows)[0]
-        segment = np.stack(
-            [
-                state.positions[ends_nodes[:, k]]
-                + self.outline_offsets[np.maximum(facing.fade_edge[rows], 0), k, None]
-                * self.offset_directions(state)[ends_nodes[:, k]]
-                for k in range(2)
-            ],
-            axis=1,
-        )
-        return fade_hessian(
-            p[rows],
-            y[facing.triangle[rows]],
-            facing.reach[rows],
-            facing.on_growth[rows],
-            segment,
-            self.fade_length,
-            None if facing.joined is None else facing.joined[rows],
-            self.cuts.lines[facing.triangle[rows]],
-            self.cuts.ends[facing.triangle[rows]],
-        )
+        moves (elements/ply_block_tangent.py, ``fade_hessian_at``)."""
+        return ply_block_tangent.fade_hessian_at(self, state, facing, rows)
 
     # ------------------------------------------------------------------ history
     def initial_history(self) -> PlyFrictionHistory | ply_sides.PlySides:

@@ -1,6 +1,6 @@
-"""The flat ply contact's point Hessians carried to its nodes (``PlyContactBlock.tangent`` and
-``_fade_tangent``, elements/ply_block.py): blocks = M^T P M, where P (t, Z, 3, Z, 3) is each
-touching point's Hessian over z = (p, y_1, .., y_{Z-1}) and M (t, Z, 3, N, 6) the map of the
+"""The flat ply contact's point Hessians carried to its nodes (``tangent`` and
+``fade_tangent``, elements/ply_block_tangent.py): blocks = M^T P M, where P (t, Z, 3, Z, 3) is
+each touching point's Hessian over z = (p, y_1, .., y_{Z-1}) and M (t, Z, 3, N, 6) the map of the
 point's nodes' (u, psi) (N = Z + 2 nodes: the upper triangle's three corners, then one node per
 lower z) onto z: dp = sum_j N_j (du_j - c_j [d_j]x psi_j), dy_k = du_k - c_k [d_k]x psi_k.
 

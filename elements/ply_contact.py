@@ -127,7 +127,7 @@ a couple F g, small against the moments F h/2 of the offsets; a stuck point faci
 carries it on the facing triangle's corners, as its stick potential's gradient
 (``elements.ply_friction.stick_couple``). The tangent is exact (stick and
 slip, through the facing triangle's normal, the normal force and the anchor's triangle;
-non-symmetric in slip: ``elements.ply_friction.friction_tangent``). mu = 0: no friction
+non-symmetric in slip: ``elements.ply_friction_tangent.friction_tangent``). mu = 0: no friction
 history (``initial_history`` keeps the points' sides alone, elements/ply_sides.py) and the
 frictionless code path alone, the same numbers.
 """

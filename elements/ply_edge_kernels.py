@@ -13,7 +13,7 @@ Before, ``closest_facing`` chained the feature normals' two kernels, ``towards_c
 the flags by numpy's gathers, stacks, masks and scatters on arrays of a few hundred rows:
 67 + 20 + 10 us of a call on the two-ply hemisphere's 384 points (benchmarks/
 forming_step_overhead.py). The numpy reference is ``closest_facing``'s own expressions with
-``ply_projection._feature_normals`` and ``towards_closest``, taken with
+``ply_facets._feature_normals`` and ``towards_closest``, taken with
 ``ply_projection.COMPILED = False``. The passes do the same IEEE operations in the same order
 (the feature normals' helpers of elements/ply_feature_normals.py themselves; numpy's sums of
 three terms: ``np.sum`` and ``np.linalg.norm`` from the first term, ``einsum("pki,pi->pk")``

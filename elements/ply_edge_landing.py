@@ -2,7 +2,7 @@
 lower face moves with the state (elements/ply_landing.py ``edge_crossing``; docs/theory.md
 §9.3a, "A point's landing step"): its derivative dLambda_a/dz over z = (p, y_1, y_2, y_3), T's
 corners now, which the friction's tangent carries as it carries a face point's
-(elements/ply_friction.py ``friction_tangent``).
+(elements/ply_friction_tangent.py ``friction_tangent``).
 
 The crossing depends on z through p and T's corners directly and through the edge's closest
 point: its barycentric coordinates lambda (q = sum_k lambda_k y_k, and q_0 = sum_k lambda_k

@@ -70,7 +70,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from elements.ply_projection import facets, triangle_frames
+from elements.ply_projection import Facing, facets, triangle_frames
 from elements.ply_wedge import closest_on_grown
 
 __all__ = [
@@ -85,6 +85,7 @@ __all__ = [
     "TREE_MOVE",
     "outline_fade",
     "outline_segments",
+    "point_fade",
     "stiffness_factor",
     "tree_segments",
 ]
@@ -483,3 +484,13 @@ def stiffness_factor(
     cross = np.sqrt(1.0 + (0.75 / SIDEWAYS) ** 2)
     angle = np.where(beside, max(1.0, SIDEWAYS_STIFFNESS), 1.0)
     return np.where(band | beside, angle + 3.0 * cross * x + 3.0 * x * x, 1.0)
+
+
+def point_fade(facing: Facing, on: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The fade w (t,) past the outline of the points ``on`` (t,) and dw/dz (t, 6, 3), 1/mm,
+    over z = (p, y_1, y_2, y_3, a, b), a and b the ends of the outline's edge nearest the
+    point, as ``outline_fade`` left them on ``facing`` (1 and 0 where the facing carries
+    none: the curved faces); the ply contact's loads and tangent weigh the points by them."""
+    if facing.fade is None or facing.fade_gradient is None:
+        return np.ones(len(on)), np.zeros((len(on), 6, 3))
+    return facing.fade[on], facing.fade_gradient[on]

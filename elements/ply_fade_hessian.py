@@ -1,6 +1,6 @@
 """The exact second derivative of the ply contact's fade w past the lower ply's outline
 (elements/ply_fade.py, whose docstring gives w and its gradient), which the contact's tangent
-takes in W Hess w (elements/ply_block.py, ``_fade_tangent``).
+takes in W Hess w (elements/ply_block_tangent.py, ``fade_tangent``).
 
 Over z = (p, y_1, y_2, y_3, a, b), with the quantities of ``outline_fade``: h the gap to the
 facing triangle's plane (unit normal n, barycentric gradients grad phi_k, coordinates

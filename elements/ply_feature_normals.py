@@ -1,14 +1,15 @@
 """The unit pseudonormal of the edge or vertex on which a ply contact point's closest point
-lies, compiled for one point at a time (elements/ply_projection.py ``_feature_normals``,
-"The sign at an edge" and "Growths joined"; docs/theory.md, the ply contact section): which
-edge or vertex holds the closest point, the sum of its triangles' unit normals (weighted at a
-vertex by their angles there, over the face's topology tables, elements/ply_topology.py),
-whether the point lies on an edge's extension that two growths hold, and the facing
-triangle's normal where the face has no side there. ``closest_facing``'s two passes after the
-choice (elements/ply_edge_kernels.py) call these helpers: ``fan_parts`` gives the parts of the
-fan's angles, whose ``arctan2`` numpy takes between the passes, and ``signing_at`` the normal.
+lies, compiled for one point at a time (elements/ply_facets.py ``_feature_normals``;
+elements/ply_projection.py, "The sign at an edge" and "Growths joined"; docs/theory.md, the
+ply contact section): which edge or vertex holds the closest point, the sum of its
+triangles' unit normals (weighted at a vertex by their angles there, over the face's
+topology tables, elements/ply_topology.py), whether the point lies on an edge's extension
+that two growths hold, and the facing triangle's normal where the face has no side there.
+``closest_facing``'s two passes after the choice (elements/ply_edge_kernels.py) call these
+helpers: ``fan_parts`` gives the parts of the fan's angles, whose ``arctan2`` numpy takes
+between the passes, and ``signing_at`` the normal.
 
-Their numpy reference is ``ply_projection._feature_normals`` (with ``pseudonormals_at`` and
+Their numpy reference is ``ply_facets._feature_normals`` (with ``pseudonormals_at`` and
 ``_joined_growth``), taken with ``ply_projection.COMPILED = False``. The helpers do the same
 IEEE operations in the same order (each sum of the tables' terms from 0.0 in their order, as
 ``np.bincount`` adds them; numpy's sums of three terms: ``np.linalg.norm`` from the first

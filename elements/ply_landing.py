@@ -53,7 +53,7 @@ Lambda_0) dtheta/dz over z = (p, y_1, y_2, y_3) (T's corners now), with dtheta/d
 pen)^2 dg/dz (where pen > 0) and, on T's plane (unit normal n, barycentric gradients grad
 phi_k, p = sum Lambda_k y_k + h n), dLambda_k/dp = grad phi_k^T and dLambda_k/dy_m = -Lambda_m
 grad phi_k^T + h (grad phi_k . grad phi_m) n^T. The flat faces' tangent carries it
-(elements/ply_friction.py ``friction_tangent``); the curved faces' tangent makes the anchor
+(elements/ply_friction_tangent.py ``friction_tangent``); the curved faces' tangent makes the anchor
 again from each point's local data in its complex steps (elements/ply_curved_friction.py
 ``landing_anchor``: the projection, its normal and theta moving, the places then held), so
 its derivative there is exact as the rest of that tangent; it knows the face rule alone, the

@@ -34,8 +34,8 @@ over the ring's nodes that may take it, and (s_p - 1) times the largest v of tho
 
 Until the next evaluation. The points slide on the lower face by at most ``slide`` (mm): the
 fastest point's speed against the lower face's point it faces, over the held steps at the
-step's largest value (which the solver gives: solvers/explicit.py ``_step_size``), times ``GROWTH``
-for the speed's growth until then, and at least ``FLOOR`` of
+step's largest value (which the solver gives: solvers/explicit_step_size.py ``_step_size``), times
+``GROWTH`` for the speed's growth until then, and at least ``FLOOR`` of
 the lower triangles' least height (plies at rest start to move: a floor, not a bound). Then:
 
 - lambda: a lower node's hat function phi_k has a gradient of at most 1 / h on the face, h

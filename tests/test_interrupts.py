@@ -22,6 +22,7 @@ import pytest
 
 import solvers.explicit
 import solvers.static
+import solvers.static_run
 from elements import Cable
 from femcore import Mesh, Model
 from fibreshell.cli import main
@@ -212,7 +213,7 @@ def test_an_interrupted_static_run_keeps_its_converged_increments(tmp_path, monk
     case = tmp_path / "case.toml"
     case.write_text(STATIC)
     with monkeypatch.context() as patch:  # frames: the reference state, then one per increment
-        signal_on_call(patch, solvers.static, "make_frame", 2)
+        signal_on_call(patch, solvers.static_run, "make_frame", 2)
         assert run(case, tmp_path / "out") == 130
     said = capsys.readouterr().out
     assert "INTERRUPTED by SIGINT after" in said and "load factor 0.333333" in said

@@ -239,7 +239,7 @@ def test_peirce_cantilever_by_the_default_static_takes_three_to_six_iterations_a
 
 def test_the_default_leaves_the_projection_off_under_prescribed_motion():
     # The bias extension pulled by its clamp's displacement: the in-plane shear is the motion
-    # itself, and the projection took 3-14-9-29 iterations there (solvers.static, StaticRun).
+    # itself, and the projection took 3-14-9-29 iterations there (solvers.static_run, StaticRun).
     from test_bias_extension import LINEAR, bias_specimen
 
     _, model = bias_specimen(LINEAR)

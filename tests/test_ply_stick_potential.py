@@ -114,7 +114,7 @@ def test_a_stuck_points_tangent_is_the_derivative_of_its_force(case):
     differences of its forces and moments at every node (femcore.interaction_checks
     ``check_tangent``: 1e-6 of the largest entry): the stick potential's terms (the gap's and
     the fade's Hessians times lift and stored, and their own derivatives) and the couple's
-    derivative (``ply_friction._couple_tangent``) included. With the couple in the loads but
+    derivative (``ply_friction_tangent._couple_tangent``) included. With the couple in the loads but
     not its derivative, the first entry out is off by 6.6e-5 (ramp), 3.6e-5 (deeper), 1.1e-3
     (fade) and 1.7e-3 (ramp and fade) of the largest entry; without the potential's terms by
     9e-5 on the ramp and 5e-4 in the fade (measured). The old code, whose loads lacked the

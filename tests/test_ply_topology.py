@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from elements import ply_fade, ply_projection
+from elements import ply_facets, ply_fade
 from elements.ply_projection import edge_ids, open_edges, pseudonormals, pseudonormals_at
 from elements.ply_topology import FaceTopology
 
@@ -126,7 +126,7 @@ def test_a_stepped_two_ply_model_is_as_with_the_whole_face_computed_at_each_call
         answers = []
         for reference in (False, True):
             if reference:
-                monkeypatch.setattr(ply_projection, "pseudonormals_at", whole)
+                monkeypatch.setattr(ply_facets, "pseudonormals_at", whole)
             found = []
             for block in blocks:
                 tree = block.outline_tree
@@ -138,7 +138,7 @@ def test_a_stepped_two_ply_model_is_as_with_the_whole_face_computed_at_each_call
                 found.append((facing, block.internal_force(state), block.strain_energy(state)))
                 block.outline_tree = tree
             answers.append(found)
-        monkeypatch.setattr(ply_projection, "pseudonormals_at", pseudonormals_at)
+        monkeypatch.setattr(ply_facets, "pseudonormals_at", pseudonormals_at)
         for (facing, force, energy), (ref_facing, ref_force, ref_energy) in zip(*answers):
             edged += int(np.count_nonzero(np.any(facing.weights < -1e-9, axis=1)))
             for name, value in vars(ref_facing).items():

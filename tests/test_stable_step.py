@@ -190,10 +190,10 @@ def test_the_assembled_bound_waits_for_the_cells_bound_to_move_or_the_longest_in
     ASSEMBLED_DT_MAX steps (here 100): 250 steps of a resting strip whose cells' bound does
     not move, and of the same with that bound made to shrink by ``drift`` at each of its
     evaluations (past 1 % after 4, 40 steps)."""
-    from solvers import explicit
+    from solvers import explicit, explicit_step_size
 
     monkeypatch.setattr(explicit, "ASSEMBLED_DT_EVERY", 20)
-    monkeypatch.setattr(explicit, "ASSEMBLED_DT_MAX", 100)
+    monkeypatch.setattr(explicit_step_size, "ASSEMBLED_DT_MAX", 100)
     compiled = strip(1).compile()
     evaluate, cells = compiled.assembled_stable_dt, compiled.cell_stable_dt
     calls, steps = [], []
@@ -217,14 +217,14 @@ def test_where_the_cells_bound_governs_with_room_the_assembled_bound_waits_for_h
     """The assembled bound 1.4 times the cells' when last evaluated (room 0.4): evaluated
     again once the cells' bound has moved by more than half that room (20 %), not at 1 %;
     with no room, at 1 %; and in any case after ASSEMBLED_DT_MAX steps."""
-    from solvers import explicit
+    from solvers import explicit_step_size
 
     solver = CentralDifference(duration=1.0)
     solver._assembled = (1.4e-6, 1.0e-6, 0)
     assert not solver._assembled_due(0.85e-6, 100)
     assert not solver._assembled_due(1.15e-6, 100)
     assert solver._assembled_due(0.79e-6, 100)
-    assert solver._assembled_due(1.0e-6, explicit.ASSEMBLED_DT_MAX)
+    assert solver._assembled_due(1.0e-6, explicit_step_size.ASSEMBLED_DT_MAX)
     solver._assembled = (0.9e-6, 1.0e-6, 0)  # the assembled bound governs: 1 %
     assert not solver._assembled_due(0.995e-6, 100)
     assert solver._assembled_due(0.985e-6, 100)

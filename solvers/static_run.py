@@ -1,0 +1,405 @@
+"""One Static solve in progress (``StaticRun``, made by ``Static.solve``, solvers/static.py): the
+model, its tangent and linear solver, the last converged state and load factor, the frames and
+the info written so far; the model evaluations (residual, energy, tangent, factorisation), the
+configurations (placing, moving and predicting states) and the bookkeeping of converged
+increments (frames, cuts, failures, the result) that the load path (solvers.load_path), the
+arc-length path (solvers.arc_length), Newton (solvers.newton) and the stability checks
+(solvers.stability) work through.
+"""
+
+from __future__ import annotations
+
+import time
+import warnings
+from dataclasses import replace
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+import scipy.sparse as sp
+
+from femcore.dofs import N_COLUMNS, Frames
+from femcore.model import CompiledModel
+from femcore.results import Result
+from femcore.rotation import cross, rotate_about
+from femcore.state import State
+from solvers.arc_length import Motion
+from solvers.common import (
+    ConvergenceError,
+    ProgressLine,
+    empty_result,
+    equilibrium_reactions,
+    make_frame,
+    outside_stacklevel,
+    resolve_progress,
+)
+from solvers.interrupts import STOP, Interrupted
+from solvers.linear import Factorisation, LinearSolver
+from solvers.newton import Residual, Tangent, compression_free_ratio
+from solvers.newton_fibres import FibreEdges
+from solvers.newton_levels import LevelStrains
+from solvers.output import FrameStream
+from solvers.stabilisation import Dashpots
+from solvers.stop_diagnosis import stop_hint
+
+if TYPE_CHECKING:
+    from solvers.static import Static
+
+__all__ = ["StaticRun"]
+
+
+class StaticRun:
+    """One solve in progress: the model, its tangent and linear solver, the last converged
+    state and load factor, the frames and the info written so far. The Newton iterations
+    (solvers.newton), the arc-length path (solvers.arc_length) and the stability checks
+    (solvers.stability) work on it."""
+
+    def __init__(self, solver: Static, model: CompiledModel):
+        self.solver, self.model = solver, model
+        self.started = time.perf_counter()
+        self.state = model.initial_state()
+        self.reached = 0.0
+        own_parts = model.own_tangents(self.state) if solver.tangent == "element" else {}
+        own = list(own_parts)
+        others = [i for i in range(len(model.parts)) if i not in own]
+        self._tangent = Tangent(model, own, others, (self.state, own_parts))
+        self.linear = LinearSolver()
+        self.compression_free = compression_free_ratio(solver.compression_free, model)
+        # The steps' projections on the fibre lengths (solvers.newton_fibres) and the level strains
+        # (solvers.newton_levels; not with prescribed motion: 3-14-9-29 on the bias extension).
+        fibres = FibreEdges(model) if solver.fibre_projection else None
+        self.fibres = fibres if fibres else None
+        use_levels = solver.level_projection and not (model.has_prescribed or model.interactions)
+        levels = LevelStrains(model) if use_levels else None
+        self.levels = levels if levels else None
+        self.frames = [make_frame(model, self.state)]
+        self.stream = None
+        if solver.output is not None:
+            self.stream = FrameStream(solver.output, model.mesh, model.has_rotation.copy())
+            self.stream.write(self.frames[0])
+        self.strain_energies = [model.strain_energy(self.state)]  # one per frame, N mm
+        self.dissipations = [model.dissipated_energy(self.state)]  # friction's, N mm
+        self.progress = ProgressLine(resolve_progress(solver.progress), "static")
+        self.negative: int | None = 0
+        # The last converged state is a saddle that no push along its negative modes descends
+        # from (solvers.stability.push_descends): the next increment follows it by plain Newton.
+        self.on_kept_saddle = False
+        self.mode: Motion | None = None  # the next arc-length increment starts along it
+        self.last_motion: tuple[int, float, Motion] | None = None  # (phase, lambda, motion)
+        self.phase = 0
+        self.counts = {"residual": 0, "energy": 0, "tangent": 0}
+        # The viscous stabilisation (solvers.stabilisation): the masses once, the dashpots of
+        # the increment being solved, and the energy they dissipated so far.
+        self.dashpots: Dashpots | None = None
+        self.masses = model.lumped_mass(self.state) if solver.stabilise > 0.0 else None
+        self.dissipated = 0.0
+        # The augmented contacts' report at the last converged state (None: no augmented
+        # contact; solvers.augmentation.augment_contacts).
+        self.constraint: dict | None = None
+        self.info: dict[str, Any] = {
+            "solver": "Static",
+            "path": solver.path,
+            "tangent": {
+                "element": [type(model.parts[i]).__name__ for i in own],
+                "finite_difference": [type(model.parts[i]).__name__ for i in others],
+            },
+            "load_factors": [],
+            "iterations_per_increment": [],
+            "cuts": 0,
+            "iterations_cut": 0,
+            "first_turn_cuts": [],
+            "soft_start_iterations": 0,
+            "tangent_colours": self._tangent.graph.n_colours if self._tangent.graph else 0,
+            "residual_ratio_per_increment": [],
+            "negative_eigenvalues": [],
+            "indefinite_at": [],
+            "limit_points": [],
+            "jumps": [],
+            "regularised_iterations": 0,
+            "shifted": [],
+            "chord_corrections": 0,
+            "arc_chords": 0,
+            "curved_steps": 0,
+            "fibre_projections": 0,
+            "fibre_projection_sweeps": 0,
+            "level_projections": 0,
+            "level_projection_sweeps": 0,
+            "compression_free": self.compression_free,
+            "compression_free_tangents": 0,
+            "mode_searches": 0,
+            "round_off_probes": 0,
+            "round_off_converged": 0,
+            "contact_set_updates": 0,
+            "contact_set_fallbacks": 0,
+            "augmentations": [],
+            "augmented_penetration": [],
+            "augmented_slip": [],
+            "augmentations_short": [],
+            "branch_switches": [],
+            "saddles_kept": [],
+            "residual_history": [],
+            "evaluations": self.counts,
+        }
+
+    # ------------------------------------------------------------------ model evaluations
+    def equilibrium(self, load_factor: float) -> Residual:
+        force, moment, imposed = self.solver.loads(self.model, load_factor)
+        return Residual(self.model, force, moment, imposed, self.counts, self.dashpots)
+
+    def damp(self, load_factor: float | None) -> None:
+        """Stabilised runs: the dashpots of the increment from the last converged state to
+        ``load_factor`` (None: none, between increments)."""
+        if self.masses is None or load_factor is None:
+            self.dashpots = None
+            return
+        mass, inertia = self.masses
+        self.dashpots = Dashpots(
+            self.solver.stabilise,
+            mass,
+            inertia,
+            self.model.has_rotation,
+            self.state,
+            load_factor - self.reached,
+        )
+
+    def report_augmentation(self) -> None:
+        """A UserWarning when increments were accepted with an augmented contact's penetration
+        or elastic slip above its tolerance (``augmentations`` passes did not bring them in)."""
+        short = self.info["augmentations_short"]
+        if not short:
+            return
+        worst = max(excess for _, excess in short)
+        warnings.warn(
+            f"{len(short)} increment(s) kept an augmented contact's penetration or elastic slip "
+            f"above its tolerance after {self.solver.augmentations} Uzawa passes (up to "
+            f"{worst:.3g} x the tolerance; info['augmentations_short']): raise augmentations "
+            "or the penalty",
+            UserWarning,
+            stacklevel=outside_stacklevel(),
+        )
+
+    def pattern(self, phase: int):
+        """(forces, moments, imposed displacements) per unit load factor in a phase."""
+        upper = self.solver.loads(self.model, phase + 1.0)
+        lower = self.solver.loads(self.model, float(phase))
+        return tuple(a - b for a, b in zip(upper, lower))
+
+    def energy(self, state: State) -> float:
+        """The strain energy at ``state`` (with the dashpots' pseudo-potential in a stabilised
+        increment), N mm; inf at a trial no element can be evaluated at (a vanished normal)."""
+        self.counts["energy"] += 1
+        try:
+            energy = self.model.strain_energy(state)
+        except ZeroDivisionError:
+            return np.inf
+        if self.dashpots is not None:
+            energy += self.dashpots.energy(state)
+        return energy
+
+    def tangent(self, state: State, frames: Frames, compression_free: bool = False):
+        """(K_ff, K_fp) at ``state``, the dashpots' diagonal added in a stabilised
+        increment; ``compression_free``: that of solvers.newton.Tangent."""
+        self.counts["tangent"] += 1
+        k_ff, k_fp = self._tangent(state, frames, compression_free)
+        if self.dashpots is not None:
+            diagonal = self.dashpots.diagonal(self.model.dofs.free_slots)
+            k_ff = (k_ff + sp.diags(diagonal, format="csc")).tocsc()
+        return k_ff, k_fp
+
+    def factorise(self, k_ff) -> Factorisation:
+        return self.linear.factorise(k_ff)
+
+    # ------------------------------------------------------------------ configurations
+    def place(self, state: State, load_factor: float) -> State:
+        """The state with its prescribed translations at their values for ``load_factor``, and
+        that load factor (where the tools' prescribed motions place them)."""
+        model = self.model
+        state = replace(state, load_factor=load_factor, time=load_factor)
+        if not model.has_prescribed:
+            return state
+        target = model.reference_positions + self.solver.loads(model, load_factor)[2]
+        positions = np.where(model.translation_prescribed, target, state.positions)
+        return replace(state, positions=positions)
+
+    def apply(self, motion: Motion, load_factor: float) -> State:
+        """The last converged state moved by ``motion``, placed at ``load_factor``."""
+        model, state = self.model, self.state
+        directors = state.directors
+        if model.dofs.any_rotation:
+            turned = rotate_about(directors, motion.rotations)
+            directors = np.where(model.has_rotation[:, None], turned, directors)
+        moved = replace(state, positions=state.positions + motion.translations, directors=directors)
+        return self.place(moved, load_factor)
+
+    def motion_between(self, old: State, old_load, new: State, new_load) -> Motion:
+        """The motion from one state to another: translations and the rotation vectors that
+        take each old director to the new one about their common normal."""
+        axis = cross(old.directors, new.directors)
+        sine = np.linalg.norm(axis, axis=1)
+        cosine = np.sum(old.directors * new.directors, axis=1)
+        angle = np.arctan2(sine, cosine)
+        rotations = (
+            axis * np.where(sine > 0.0, angle / np.where(sine > 0.0, sine, 1.0), 0.0)[:, None]
+        )
+        rotations[~self.model.has_rotation] = 0.0
+        return Motion(
+            new.positions - old.positions,
+            rotations,
+            new_load - old_load,
+            self.model.element_size,
+        )
+
+    def scaled_motion(self, delta: np.ndarray, frames: Frames) -> np.ndarray:
+        """The scaled-norm vector (Motion.vector) of a generalised increment delta (n, 5)."""
+        return self.as_motion(delta, frames, 0.0).vector
+
+    def as_motion(self, delta: np.ndarray, frames: Frames, load: float, mode=False) -> Motion:
+        rotations = np.zeros((self.model.n_nodes, 3))
+        if frames is not None:
+            v1, v2 = frames
+            rotations = delta[:, 3:4] * v2 + delta[:, 4:5] * v1
+            rotations[~self.model.has_rotation] = 0.0
+        return Motion(delta[:, :3].copy(), rotations, load, self.model.element_size, mode)
+
+    def predict(self, load_factor: float, follow: bool = False) -> State:
+        """Load path: the start of the Newton iteration at ``load_factor``: the last
+        increment of the same phase extrapolated (the secant), else the last state (with
+        the tools followed under ``follow_tools``, or when ``follow``)."""
+        if (
+            not self.solver.predictor
+            or self.last_motion is None
+            or self.last_motion[0] != self.phase
+        ):
+            return self.follow_tools(self.state, load_factor, follow)
+        motion = self.last_motion[2]
+        if motion.load <= 0.0:
+            return self.follow_tools(self.state, load_factor, follow)
+        return self.apply(motion.scaled((load_factor - self.reached) / motion.load), load_factor)
+
+    def follow_tools(self, state: State, load_factor: float, follow: bool = False) -> State:
+        """With ``follow_tools`` (or ``follow``): the nodes touching a moving tool at the last
+        converged state (and no tool that stays) carried by the tool's translation to
+        ``load_factor`` (``InteractionBlock.carried_by_tool``), so that the increment's first
+        iterate does not have the tool inside the body by the whole of its step."""
+        if not (self.solver.follow_tools or follow):
+            return state
+        model = self.model
+        shift = np.zeros((model.n_nodes, 3))
+        held = np.zeros(model.n_nodes, dtype=bool)
+        carried = np.zeros(model.n_nodes, dtype=bool)
+        for i, part in enumerate(model.interactions, start=len(model.blocks)):
+            found = part.carried_by_tool(state, state.history[i], self.reached, load_factor)
+            if found is None:
+                continue
+            nodes, moves = found
+            moving = np.abs(moves).max(axis=1, initial=0.0) > 0.0
+            shift[nodes[moving]] = moves[moving]
+            carried[nodes[moving]] = True
+            held[nodes[~moving]] = True  # a node on a tool that stays (a die) is not carried
+        carried &= ~held & ~model.translation_prescribed.any(axis=1)
+        if not carried.any():
+            return state
+        positions = state.positions + np.where(carried[:, None], shift, 0.0)
+        return replace(state, positions=positions)
+
+    def load_rate(self, pattern, frames: Frames, k_fp) -> tuple[np.ndarray, np.ndarray]:
+        """P = dR/dlambda on the free DOFs, F_pattern - K_fp U_pattern, and the prescribed
+        motion per unit load factor U_pattern as a flat generalised vector (n_slots,)."""
+        model, dofs = self.model, self.model.dofs
+        rate = np.zeros((model.n_nodes, N_COLUMNS))
+        rate[:, :3] = np.where(model.translation_prescribed, pattern[2], 0.0)
+        drive = dofs.generalised(frames, pattern[0], pattern[1]).ravel()[dofs.free_slots]
+        if dofs.prescribed_slots.size:
+            drive = drive - k_fp @ rate.ravel()[dofs.prescribed_slots]
+        return drive, rate.ravel()
+
+    # ------------------------------------------------------------------ bookkeeping
+    def settled(self, state: State, factor: Factorisation) -> State:
+        """A converged state: note the inertia of ``factor``, the tangent last factorised on
+        the way to it (the class docstring's Stability)."""
+        self.negative = factor.negative
+        self.on_kept_saddle = False
+        return state
+
+    def accept(self, state: State, load_factor: float) -> None:
+        if self.dashpots is not None:
+            self.dissipated += self.dashpots.dissipated(state)
+        motion = self.motion_between(self.state, self.reached, state, load_factor)
+        self.last_motion = (self.phase, load_factor, motion)
+        self.reached = load_factor
+        self.state = self.model.commit(replace(state, load_factor=load_factor, time=load_factor))
+
+    def frame(self, iterations: int, ratio: float, history: list[float]) -> None:
+        info, model, state = self.info, self.model, self.state
+        info["load_factors"].append(self.reached)
+        info["iterations_per_increment"].append(iterations)
+        info["residual_ratio_per_increment"].append(ratio)
+        info["residual_history"].append(history)
+        info["negative_eigenvalues"].append(self.negative)
+        if self.negative:
+            info["indefinite_at"].append(self.reached)
+            self.progress(
+                f"load factor {self.reached:.4g}: the tangent stiffness has {self.negative} "
+                "negative eigenvalue(s): an unstable equilibrium, past a limit point or a "
+                "bifurcation",
+                force=True,
+            )
+        f_ext, m_ext, _ = self.solver.loads(model, self.reached)
+        reactions, reaction_moments = equilibrium_reactions(model, state, f_ext, m_ext)
+        self.keep(make_frame(model, state, reactions, reaction_moments))
+        self.progress(
+            f"increment {len(self.frames) - 1}: load factor {self.reached:.4g} converged in "
+            f"{iterations} Newton iterations",
+            fraction=self.reached / (2.0 if self.solver.step_loads_first else 1.0),
+        )
+        if STOP.signal is not None:  # SIGINT or SIGTERM inside interruptible()
+            raise Interrupted(
+                f"static solver interrupted by {STOP.signal} at load factor "
+                f"{self.reached:.6g}: the {len(self.frames) - 1} converged increment(s) are "
+                "kept (a static run has no checkpoint: run it again to go on)",
+                self.result(False),
+                STOP.signal,
+            )
+
+    def keep(self, frame) -> None:
+        """Keep a frame of the last converged state (and write it, with ``output``)."""
+        self.frames.append(frame)
+        self.strain_energies.append(self.model.strain_energy(self.state))
+        self.dissipations.append(self.model.dissipated_energy(self.state))
+        if self.stream is not None:
+            self.stream.write(frame)
+
+    def cut(self, cuts: int, what: str, failure: Exception) -> int:
+        """Count one more cut of an increment (``cuts`` so far), or raise the ConvergenceError
+        of ``failure`` when that makes more than the solver's max_cuts."""
+        self.info["cuts"] += 1
+        if cuts + 1 > self.solver.max_cuts:
+            raise self.failure(f"{what} did not converge after {cuts} cuts ({failure})") from None
+        return cuts + 1
+
+    def failure(self, reason: str) -> ConvergenceError:
+        hint = stop_hint(self.model, self.state.positions, self.solver.path)
+        error = ConvergenceError(
+            f"static solver stopped at load factor {self.reached:.6g}: {reason}{hint}.", None
+        )
+        if self.reached > self.frames[-1].load_factor:  # keep the last good state
+            self.keep(make_frame(self.model, self.state))
+        error.result = self.result(False)
+        error.load_factor = self.reached
+        return error
+
+    def result(self, converged: bool) -> Result:
+        result = empty_result(self.model, self.frames)
+        result.steps = int(sum(self.info["iterations_per_increment"]))
+        result.wall_time = time.perf_counter() - self.started
+        result.converged = converged
+        result.energies = {
+            "time": np.array([frame.time for frame in self.frames]),
+            "internal": np.array(self.strain_energies),
+            "friction": np.array(self.dissipations),
+        }
+        self.info["linear_solver"] = {
+            "symbolic_factorisations": self.linear.symbolic,
+            "numeric_factorisations": self.linear.numeric,
+        }
+        result.info = dict(self.info, tol=self.solver.tol)
+        return result
