@@ -7,7 +7,7 @@ entry's mirror among the sorted keys.
 The model: plies-bai-5.1's stack at the default resolution (cases/bai-5.1.toml, 30 x 2 cells,
 8 Mindlin plies, 744 nodes, 3720 unknowns free) with, on each of the 7 interfaces, one contact
 part of 6-node blocks per upper-ply triangle (its 3 nodes and those of a triangle of the ply
-below: the shape of elements/ply_block.py's tangent with every point touching). The ply
+below: the shape of elements/ply_block_tangent.py's tangent with every point touching). The ply
 contact changes this pattern at almost every Newton iteration (benchmarks/report.py, "The
 plies' increments cut once": 989 new patterns in 1076 tangents of the 8-ply run). Prints the
 CPU time of each pass (best of the repeats), and whether the two give the same arrays.

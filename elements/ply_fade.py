@@ -35,7 +35,7 @@ on its edge; the envelope of its minimum); dg/dz = (n, -lambda_m n) on a plane, 
 -lambda_m(q) nu) at an edge or a vertex (nu = (p - q) / g, lambda(q) q's coordinates: the
 closest point's own gradient, elements/ply_projection.py); dw_e = -3 (1 - d / D) / D^2
 d(d^2), with no division by d; d lambda_k = grad phi_k . (dp - h dn - sum_m lambda_m dy_m)
-with dn/dy_m = -grad phi_m n^T (elements/ply_block.py, ``tangent``), dh/dz = (n, -lambda_m
+with dn/dy_m = -grad phi_m n^T (elements/ply_block_tangent.py, ``tangent``), dh/dz = (n, -lambda_m
 n), d(h / g) = (dh - (h / g) dg) / g. The second derivative of w, which only the tangent
 needs, is in closed form in elements/ply_fade_hessian.py (``central_fade_hessian`` here, the
 central difference of this exact gradient, is its reference pass). The distance to

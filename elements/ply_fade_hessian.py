@@ -19,7 +19,7 @@ g^2 (r_o = p - a - t e, e = b - a, t the parameter of the outline's closest poin
 (S'' = 6 - 12 u on (0, 1), 0 where S is clamped; sqrt(Q) dQ dQ^T / Q stays bounded, |dQ| ~ 2
 sqrt(Q), so w_e is C1 and its Hessian finite at the outline edge). The parts:
 
-- Hess h, the plane's gap (as the contact's own, elements/ply_block.py ``tangent``): H_pp =
+- Hess h, the plane's gap (as the contact's own, elements/ply_block_tangent.py ``tangent``): H_pp =
   0, H_p,m = -grad phi_m n^T, H_k,m = -h (grad phi_k . grad phi_m) n n^T + lambda_m n grad
   phi_k^T + lambda_k grad phi_m n^T;
 - Hess g: Hess h on a plane; beside, the distance's to its closest point on a grown edge, at
