@@ -509,7 +509,10 @@ process, ``--rounds 2``; docs/theory.md §9.3a, "An active set under Static"):
   120-51-18-13-13-13-8-12-8-44, 361 and 112 cut, 3 cuts), 3.3 and 2.9 s. The material lines of
   the two equilibria: tilt within 0.024 deg, thickness within 5.5e-3 mm, mid-point within
   2.9e-3 mm (nodes 4.9e-3 mm; delta 1.5e-3 mm). With the rule g_{k+1} < 0 alone
-  (``ply_active_set.HYSTERESIS = False``): 562 tangents, 379 and 174 cut.
+  (``ply_active_set.HYSTERESIS = False``): 562 tangents, 379 and 174 cut. With the rule's c
+  (the gap's weight against the multiplier's, k above; one-off runs with the block's freeze
+  patched) 0.01, 0.1 and 10 k: 607, 574 and 427 tangents (c = 10 k: 27-4-4-4-4-3-3-3-3-3 and
+  140-50-15-13-13-16-8-8-8-11); the sag below at 2, 4, 8 plies 31-35-42, 32-32-75, 22-25-33.
 * bai, default (load 2.8-3.8): ramp 403 tangents (24-7-7-5-4-3-3-3-3-3 and
   123-33-34-31-19-19-21-19-15-22, no cut), 10.5 and 10.4 s; active set 684 tangents
   (49-30-13-4-4-3-3-3-3-3 and 201-50-39-30-14-18-19-40-39-15, 580 and 100 cut, 2 cuts), 19.6 and
