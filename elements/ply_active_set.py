@@ -44,6 +44,7 @@ from dataclasses import dataclass, replace
 from typing import Any
 
 import numpy as np
+import scipy.sparse as sp
 
 from elements import ply_sides
 from elements.ply_block import PlyContactBlock
@@ -96,6 +97,11 @@ def bilateral_law(gap: np.ndarray, stiffness: np.ndarray):
 class ActiveSetPlyContactBlock(PlyContactBlock):
     """``PlyContactBlock`` whose normal law under a quasi-static solver is the primal-dual
     active set of the module docstring; the ramped penalty elsewhere."""
+
+    #: An attempt with the set frozen that fails is not tried again under the unilateral law
+    #: (solvers/newton.py ``newton``): that law is the plain penalty, which stalls on plies
+    #: laid on each other (docs/theory.md §9.3a); the increment is cut at once.
+    unilateral_fallback = False
 
     def __init__(self, *args: Any, **kwargs: Any):
         super().__init__(*args, **kwargs)
@@ -225,6 +231,61 @@ class ActiveSetPlyContactBlock(PlyContactBlock):
         )
         frozen = FrozenSides(sides.sides, sides.faces, sides.corners, active, pressure)
         return frozen, changed
+
+    def set_model(self, state: State, history: Any, frames: Any, dofs: Any) -> dict | None:
+        """The frozen set's linear model at ``state`` for a prediction of the next set
+        (solvers/contact_sets.py): None without a frozen set, else {"points": (r,) the rows of
+        the points it may switch (those that may touch, off the fade: w = 1, dw = 0),
+        "gradient": (r, n 5) csr, dg/dq in the generalised unknowns of ``dofs`` in the frames
+        ``frames`` (the slots' layout), "gap": (r,) mm, "stiffness": (r,) N/mm, "active": (r,)
+        bool, "pressure": (r,) N}: a point of the set adds k g dg/dq to the internal forces
+        and k dg/dq dg/dq^T (+ k g d2g/dq2) to the tangent."""
+        if not isinstance(history, FrozenSides) or history.active is None:
+            return None
+        assert history.pressure is not None
+        held, reachable = self._reachable(state, history)
+        assert held.fade is not None and held.fade_gradient is not None
+        plain = (held.fade == 1.0) & ~np.any(held.fade_gradient != 0.0, axis=(1, 2))
+        rows = np.flatnonzero(reachable & plain)
+        tri = held.triangle[rows]
+        n, lam = held.normal[rows], held.weights[rows]
+        nodes = np.column_stack([self.above[rows], self.cells[tri]])  # (r, 6)
+        offset = self.lever * np.column_stack([-self.upper_offset[rows], self.corner_offset[tri]])
+        weights = np.column_stack([self.shape[rows], -lam])  # dg/dx_j = weight_j n
+        along = weights[:, :, None] * n[:, None, :]  # (r, 6, 3)
+        d = self.offset_directions(state)[nodes]
+        turn = offset[:, :, None] * np.cross(d, along)  # dg/dpsi_j = c_j d_j x dg/dx_j
+        v1, v2 = frames
+        columns = np.zeros((len(rows), 6, 5))
+        columns[:, :, :3] = along
+        rotating = dofs.has_rotation[nodes]
+        columns[:, :, 3] = np.where(rotating, np.sum(turn * v2[nodes], axis=2), 0.0)
+        columns[:, :, 4] = np.where(rotating, np.sum(turn * v1[nodes], axis=2), 0.0)
+        slot = nodes[:, :, None] * 5 + np.arange(5)
+        row = np.broadcast_to(np.arange(len(rows))[:, None, None], slot.shape)
+        gradient = sp.csr_matrix(
+            (columns.ravel(), (row.ravel(), slot.ravel())), shape=(len(rows), 5 * self.n_nodes)
+        )
+        return {
+            "points": rows,
+            "gradient": gradient,
+            "gap": np.asarray(held.gap[rows], dtype=float),
+            "stiffness": self.stiffness[rows],
+            "active": np.asarray(history.active[rows]),
+            "pressure": np.asarray(history.pressure[rows]),
+        }
+
+    def with_set(
+        self, history: FrozenSides, points: np.ndarray, active: np.ndarray, pressure: np.ndarray
+    ) -> FrozenSides:
+        """``history`` with the set's members ``active`` (r,) bool and multipliers ``pressure``
+        (r,) N at the rows ``points`` (r,) (the others as they were)."""
+        assert history.active is not None and history.pressure is not None
+        members, multipliers = history.active.copy(), history.pressure.copy()
+        members[points], multipliers[points] = active, pressure
+        members.setflags(write=False)
+        multipliers.setflags(write=False)
+        return FrozenSides(history.sides, history.faces, history.corners, members, multipliers)
 
     def thaw(self, history: Any) -> Any:
         """The history with no set: the unilateral plain penalty (module docstring)."""

@@ -87,6 +87,7 @@ from femcore.dofs import N_COLUMNS, Frames
 from femcore.interaction import InteractionBlock
 from femcore.model import CompiledModel
 from femcore.state import State
+from solvers import contact_sets
 from solvers.common import IncrementFailed, StepTooLong
 from solvers.convergence import Equilibrium
 from solvers.inertia import convexified_step
@@ -159,6 +160,15 @@ def newton(
         # force is decided by the gaps alone) the unilateral attempt would repeat the frozen
         # one iteration for iteration and fail alike: the increment is cut at once.
         if not keeps_contact_sets(run.model):
+            raise
+        # Nor where each set-keeping interaction's unilateral law is known to stall
+        # (``unilateral_fallback = False``: the ply contact's active set, whose unilateral law
+        # is the plain penalty; elements/ply_active_set.py).
+        if not any(
+            getattr(part, "unilateral_fallback", True)
+            for part in run.model.interactions
+            if type(part).freeze is not InteractionBlock.freeze
+        ):
             raise
         run.info["contact_set_fallbacks"] += 1
         try:
@@ -359,6 +369,15 @@ def _iterate(
             run.info["regularised_iterations"] += 1
             if delta_free is None:
                 raise IncrementFailed(f"singular tangent stiffness: {mechanism(model)}")
+        if frozen and not regularised and contact_sets.PREDICTED:
+            # The sets of the step's end chosen on its linear model (solvers/contact_sets.py):
+            # the step with them, the residual at ``state`` under them, a new line search.
+            predicted = contact_sets.predicted_sets(run, state, frames, factor, delta_free, left)
+            if predicted is not None:
+                state, delta_free, change = predicted
+                r = r - np.where(dofs.free, change.reshape(r.shape), 0.0)
+                forces = None  # the accepted trial's, made with the new sets
+                watchdog = Watchdog(run, equilibrium, solver.line_search, solver.update_turn)
         if turn_limit is not None and iteration == 1:
             # The first step is linear in the increment: one that turns a director too far
             # asks for a smaller increment before any iteration is spent (solvers.load_path).
