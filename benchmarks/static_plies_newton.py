@@ -500,36 +500,44 @@ iterations in the counts),
 
 The ply contact's normal law under Static (``--active-set``: the case's solver with the ramp
 and with ``PlyContact(static_law="active_set")``, the primal-dual active set of a bilateral
-penalty frozen within each iteration, elements/ply_active_set.py; the two alternately in one
-process, ``--rounds 2``; docs/theory.md §9.3a, "An active set under Static"):
+penalty frozen within each iteration, elements/ply_active_set.py, its set predicted on each
+step's linear model, solvers/contact_sets.py; the two alternately in one process, ``--rounds
+2``; docs/theory.md §9.3a, "An active set under Static"):
 
-* bai, coarse (load 1.7-2.4): ramp 271 tangents (21-5-4-4-4-3-3-3-3-3 and
-  82-19-18-18-18-8-11-10-8-12, 257 converged and 8 cut iterations), 2.4 and 1.3 s CPU (the
-  first pass compiling); active set 480 tangents (30-4-4-4-4-3-3-3-3-3 and
-  120-51-18-13-13-13-8-12-8-44, 361 and 112 cut, 3 cuts), 3.3 and 2.9 s. The material lines of
-  the two equilibria: tilt within 0.024 deg, thickness within 5.5e-3 mm, mid-point within
-  2.9e-3 mm (nodes 4.9e-3 mm; delta 1.5e-3 mm). With the rule g_{k+1} < 0 alone
-  (``ply_active_set.HYSTERESIS = False``): 562 tangents, 379 and 174 cut. With the rule's c
-  (the gap's weight against the multiplier's, k above; one-off runs with the block's freeze
-  patched) 0.01, 0.1 and 10 k: 607, 574 and 427 tangents (c = 10 k: 27-4-4-4-4-3-3-3-3-3 and
-  140-50-15-13-13-16-8-8-8-11); the sag below at 2, 4, 8 plies 31-35-42, 32-32-75, 22-25-33.
-* bai, default (load 2.8-3.8): ramp 403 tangents (24-7-7-5-4-3-3-3-3-3 and
-  123-33-34-31-19-19-21-19-15-22, no cut), 10.5 and 10.4 s; active set 684 tangents
-  (49-30-13-4-4-3-3-3-3-3 and 201-50-39-30-14-18-19-40-39-15, 580 and 100 cut, 2 cuts), 19.6 and
-  20.9 s; tilt within 0.030 deg, thickness 7.7e-3 mm, mid-point 4.8e-3 mm (nodes 7.2e-3 mm;
-  delta 7.5e-4 mm).
-* bai at 20 plies (``--plies 20``, 30 cells; one pass each, the two side by side in two
-  processes, load 1-3.4): the ramp converges, 755 tangents (40-7-7-8-4-3-3-3-3-3 and
-  187-49-68-29-27-50-34-34-14-52, 625 and 125 cut, 5 cuts), 123 s CPU; the active set converges
-  too, 2010 tangents (65-34-22-4-4-3-3-3-3-3 and 275-66-92-118-42-96-50-26-57-74, 1040 and 959
-  cut, 21 cuts), 324 s.
+* bai, coarse (load 2.1-2.4): ramp 271 tangents (21-5-4-4-4-3-3-3-3-3 and
+  82-19-18-18-18-8-11-10-8-12, 257 converged and 8 cut iterations), 2.0 and 1.2 s CPU (the
+  first pass compiling); active set 245 tangents (14-4-4-4-4-3-3-3-3-3 and
+  52-14-14-13-12-8-8-9-8-8, 191 and 50 cut, 2 cuts), 3.1 and 3.1 s. The material lines of the
+  two equilibria: tilt within 0.024 deg, thickness within 5.5e-3 mm, mid-point within 2.9e-3 mm
+  (nodes 4.9e-3 mm; delta 1.5e-3 mm).
+* bai, default (load 2.4-3.0): ramp 403 tangents (24-7-7-5-4-3-3-3-3-3 and
+  123-33-34-31-19-19-21-19-15-22, no cut), 10.3 and 9.3 s; active set 345 tangents
+  (27-12-4-4-4-3-3-3-3-3 and 64-16-14-13-8-8-9-8-8-9, 223 and 125 cut in 5 stalls of the first
+  displacement increment), 24.2 and 24.9 s; tilt within 0.030 deg, thickness 7.7e-3 mm,
+  mid-point 4.8e-3 mm (nodes 7.2e-3 mm; delta 7.5e-4 mm). ``contact_sets.MAX_SWITCHED`` and
+  ``REFACTOR_AT`` (one-off runs, load 2): 64 and 16, 405 tangents, 19.6 s; 200 and 48 (kept),
+  345, 22.7 s; 1000 and 16, 322, 61.9 s.
+* Without the prediction (``solvers.contact_sets.PREDICTED = False``, the set chosen between
+  iterations alone, and with the unilateral attempt after a failed one; load 1.7-3.8): coarse
+  480 tangents (30-4-4-4-4-3-3-3-3-3 and 120-51-18-13-13-13-8-12-8-44, 361 and 112 cut),
+  2.9-3.3 s; default 684 (49-30-13-4-4-3-3-3-3-3 and 201-50-39-30-14-18-19-40-39-15, 580 and
+  100 cut), 19.6-20.9 s. With the rule g_{k+1} < 0 alone (``ply_active_set.HYSTERESIS =
+  False``): coarse 562 tangents. With the rule's c (the gap's weight against the multiplier's,
+  k above; one-off runs with the block's freeze patched) 0.01, 0.1 and 10 k: 607, 574 and 427
+  tangents; the sag below at 2, 4, 8 plies 31-35-42, 32-32-75, 22-25-33.
+* bai at 20 plies (``--plies 20``, 30 cells; one pass each, side by side in two processes,
+  load 1-3.4): the ramp converges, 755 tangents (40-7-7-8-4-3-3-3-3-3 and
+  187-49-68-29-27-50-34-34-14-52, 625 and 125 cut, 5 cuts), 123 s CPU; the active set without
+  the prediction 2010 tangents (65-34-22-4-4-3-3-3-3-3 and 275-66-92-118-42-96-50-26-57-74,
+  1040 and 959 cut, 21 cuts), 324 s; with the prediction not yet measured to its end.
 * The plain penalty without a set (``elements.ply_contact.SMOOTHING = 0``, the ramp's solve
   otherwise), bai coarse: 359 tangents (47-4-4-4-4-3-3-3-3-3 and 91-25-18-13-12-12-9-12-12-19,
   5 cuts), 2.5 s.
 * The heavy stack of tests/test_plies.py (``Static(increments=1)``, 10 x 1 cells): ramp 23,
-  23, 26 Newton iterations at 2, 4, 8 plies; active set 27, 29, 34, the equilibrium within
-  5.9e-7, 7.4e-7, 7.9e-7 mm. Every set change flips 1-7 points whose gaps are 1e-10 to 1e-6
-  mm off, and their force k g restarts the ratio at 0.1-0.5 (docs/theory.md §9.3a).
+  23, 26 Newton iterations at 2, 4, 8 plies; the active set predicted 6, 7, 9 (without the
+  prediction 27, 29, 34), the equilibrium within 5.9e-7, 7.4e-7, 7.9e-7 mm. Without the
+  prediction every set change flips 1-7 points whose gaps are 1e-10 to 1e-6 mm off, and their
+  force k g restarts the ratio at 0.1-0.5 (docs/theory.md §9.3a).
 """
 
 from __future__ import annotations

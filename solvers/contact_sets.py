@@ -31,13 +31,18 @@ from femcore.state import State
 if TYPE_CHECKING:
     from solvers.static import StaticRun
 
-__all__ = ["MAX_PASSES", "MAX_SWITCHED", "PREDICTED", "predicted_sets"]
+__all__ = ["MAX_PASSES", "MAX_SWITCHED", "REFACTOR_AT", "PREDICTED", "predicted_sets"]
 
 #: The most passes of the rule on one step's linear model.
 MAX_PASSES = 20
 #: The most points a prediction switches: more, and the step is far from the set (the
-#: iterates' own rule chooses it; the solves would cost more than an iteration).
-MAX_SWITCHED = 64
+#: iterates' own rule chooses it). Measured on plies-bai-5.1's default stack
+#: (benchmarks/static_plies_newton.py ``--active-set``): 64, 200 and 1000 (REFACTOR_AT 16,
+#: 48, 16) gave 405, 345 and 322 tangents in 19.6, 22.7 and 61.9 s.
+MAX_SWITCHED = 200
+#: Past this many new solves in a pass, the updated K_ff is factorised instead (a band
+#: factorisation of the plies costs some 15 solves, but a new pattern its analysis too).
+REFACTOR_AT = 48
 #: Whether newton predicts the sets (benchmarks/static_plies_newton.py compares).
 PREDICTED = True
 
@@ -82,23 +87,37 @@ def predicted_sets(
     imposed = gap + gradient[:, moved] @ left.ravel()[moved] if moved.size else gap.copy()
     pull = pressure if ply_active_set.HYSTERESIS else 0.0
     active, step = start.copy(), delta_free
-    solves: dict[int, np.ndarray] = {}  # K_ff^-1 G_i^T of the points switched so far
+    # the set the factors hold, their step K^-1 (r_f - K_fp dq_p) and K^-1 G_i^T of the
+    # points switched from it so far
+    held, held_step = start.copy(), delta_free
+    solves: dict[int, np.ndarray] = {}
     for _ in range(MAX_PASSES):
         linear = imposed + g_free @ step
         chosen = pull - k * linear > 0.0
         if np.array_equal(chosen, active):
             break
         active = chosen
-        switched = np.flatnonzero(active != start)
+        switched = np.flatnonzero(active != held)
         if not switched.size:
-            step = delta_free
+            step = held_step
             continue
         if switched.size > MAX_SWITCHED:  # far from the set: the iterations choose it
             return None
         signs = np.where(active[switched], 1.0, -1.0)
         weight = signs * k[switched]
-        columns = g_free[switched].T.toarray()  # (f, m)
+        rows = g_free[switched]
         new = [int(i) for i in switched if int(i) not in solves]
+        if len(new) > REFACTOR_AT:
+            # more solves than a factorisation costs: the updated K_ff factorised
+            matrix = (factor.matrix + rows.T @ sp.diags(weight) @ rows).tocsc()
+            right = factor.matrix @ held_step - rows.T @ (weight * imposed[switched])
+            factor = run.factorise(matrix)
+            solution = factor.solve(right)
+            if solution is None:
+                return None
+            held, held_step, step, solves = active.copy(), solution, solution, {}
+            run.info["predicted_factorisations"] = run.info.get("predicted_factorisations", 0) + 1
+            continue
         if new:
             made = factor.solve(g_free[new].T.toarray())
             if made is None:
@@ -106,8 +125,9 @@ def predicted_sets(
             made = made.reshape(len(free), -1)
             solves.update({i: made[:, j] for j, i in enumerate(new)})
         solved = np.column_stack([solves[int(i)] for i in switched])
-        # K^-1 (rhs - sum s k g_i G_i) = delta_free - solved (s k g)
-        base = delta_free - solved @ (weight * imposed[switched])
+        # K^-1 (rhs - sum s k g_i G_i) = held_step - solved (s k g)
+        base = held_step - solved @ (weight * imposed[switched])
+        columns = rows.T.toarray()  # (f, m)
         capacity = np.diag(1.0 / weight) + columns.T @ solved
         try:
             step = base - solved @ np.linalg.solve(capacity, columns.T @ base)
