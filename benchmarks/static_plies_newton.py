@@ -529,7 +529,8 @@ step's linear model, solvers/contact_sets.py; the two alternately in one process
   load 1-3.4): the ramp converges, 755 tangents (40-7-7-8-4-3-3-3-3-3 and
   187-49-68-29-27-50-34-34-14-52, 625 and 125 cut, 5 cuts), 123 s CPU; the active set without
   the prediction 2010 tangents (65-34-22-4-4-3-3-3-3-3 and 275-66-92-118-42-96-50-26-57-74,
-  1040 and 959 cut, 21 cuts), 324 s; with the prediction not yet measured to its end.
+  1040 and 959 cut, 21 cuts), 324 s; with it 527 tangents (66-12-4-4-4-3-3-3-3-3 and
+  84-17-16-14-13-10-8-10-12-16, 305 and 225 cut, 9 cuts), 239 s (beside other jobs, load 2-3).
 * The plain penalty without a set (``elements.ply_contact.SMOOTHING = 0``, the ramp's solve
   otherwise), bai coarse: 359 tangents (47-4-4-4-4-3-3-3-3-3 and 91-25-18-13-12-12-9-12-12-19,
   5 cuts), 2.5 s.
