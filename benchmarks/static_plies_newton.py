@@ -516,7 +516,10 @@ step's linear model, solvers/contact_sets.py; the two alternately in one process
   displacement increment), 24.2 and 24.9 s; tilt within 0.030 deg, thickness 7.7e-3 mm,
   mid-point 4.8e-3 mm (nodes 7.2e-3 mm; delta 7.5e-4 mm). ``contact_sets.MAX_SWITCHED`` and
   ``REFACTOR_AT`` (one-off runs, load 2): 64 and 16, 405 tangents, 19.6 s; 200 and 48 (kept),
-  345, 22.7 s; 1000 and 16, 322, 61.9 s.
+  345, 22.7 s; 1000 and 16, 322, 61.9 s. Tried and not kept (one-off runs): the ramp's law
+  for the iterations at which more than 0.2 of the points change sets (the plateau's), 345
+  tangents and the same stalls (coarse 247); ``stall_iterations=50`` on the coarse stack, its
+  two stalls running to 50 (295 tangents).
 * Without the prediction (``solvers.contact_sets.PREDICTED = False``, the set chosen between
   iterations alone, and with the unilateral attempt after a failed one; load 1.7-3.8): coarse
   480 tangents (30-4-4-4-4-3-3-3-3-3 and 120-51-18-13-13-13-8-12-8-44, 361 and 112 cut),
