@@ -27,6 +27,7 @@ increments" below).
         [--resolution coarse|default] [--stall 25] [--first-turn 0.1 [--no-stall]]
         [--update-turn 0.03 [--no-stall]] [--curved [--increments 8]] [--rounds 2]
         [--detail [--parts]] [--tangent-check [--check-load 1.8] [--every 1]]
+        [--active-set [--plies 20]]
 
 bai: plies-bai-5.1's stack (validation/cases/plies_bai_5_1.py); heavy: plies-heavy-cantilever's;
 deck and sag: plies-deck-of-cards' deck at its largest N on 20 cells and its heavy stack of the
@@ -491,10 +492,56 @@ iterations in the counts),
   deck above) converges superlinearly without strict complementarity (Hintermueller, Ito and
   Kunisch, SIAM J. Optim. 13 (2002) 865): the 5-17 contact-only iterations of a default
   increment would become the 2-3 of a quadratic tail (a guess, not derived: the target is the
-  default's 403 tangents; docs/theory.md §9.3a says what the method would take). The
+  default's 403 tangents; docs/theory.md §9.3a says what the method would take; built with
+  the multipliers condensed, it takes more: "The ply contact's normal law under Static"). The
   imposed step's stretch would need a step that turns the plies without stretching them; the
   curved imposed step (above, 271 -> 628 tangents) and its fibre-length projection
   (1037) do worse.
+
+The ply contact's normal law under Static (``--active-set``: the case's solver with the ramp
+and with ``PlyContact(static_law="active_set")``, the primal-dual active set of a bilateral
+penalty frozen within each iteration, elements/ply_active_set.py, its set predicted on each
+step's linear model, solvers/contact_sets.py; the two alternately in one process, ``--rounds
+2``; docs/theory.md §9.3a, "An active set under Static"):
+
+* bai, coarse (load 2.1-2.4): ramp 271 tangents (21-5-4-4-4-3-3-3-3-3 and
+  82-19-18-18-18-8-11-10-8-12, 257 converged and 8 cut iterations), 2.0 and 1.2 s CPU (the
+  first pass compiling); active set 245 tangents (14-4-4-4-4-3-3-3-3-3 and
+  52-14-14-13-12-8-8-9-8-8, 191 and 50 cut, 2 cuts), 3.1 and 3.1 s. The material lines of the
+  two equilibria: tilt within 0.024 deg, thickness within 5.5e-3 mm, mid-point within 2.9e-3 mm
+  (nodes 4.9e-3 mm; delta 1.5e-3 mm).
+* bai, default (load 2.4-3.0): ramp 403 tangents (24-7-7-5-4-3-3-3-3-3 and
+  123-33-34-31-19-19-21-19-15-22, no cut), 10.3 and 9.3 s; active set 345 tangents
+  (27-12-4-4-4-3-3-3-3-3 and 64-16-14-13-8-8-9-8-8-9, 223 and 125 cut in 5 stalls of the first
+  displacement increment), 24.2 and 24.9 s; tilt within 0.030 deg, thickness 7.7e-3 mm,
+  mid-point 4.8e-3 mm (nodes 7.2e-3 mm; delta 7.5e-4 mm). ``contact_sets.MAX_SWITCHED`` and
+  ``REFACTOR_AT`` (one-off runs, load 2): 64 and 16, 405 tangents, 19.6 s; 200 and 48 (kept),
+  345, 22.7 s; 1000 and 16, 322, 61.9 s. Tried and not kept (one-off runs): the ramp's law
+  for the iterations at which more than 0.2 of the points change sets (the plateau's), 345
+  tangents and the same stalls (coarse 247); ``stall_iterations=50`` on the coarse stack, its
+  two stalls running to 50 (295 tangents).
+* Without the prediction (``solvers.contact_sets.PREDICTED = False``, the set chosen between
+  iterations alone, and with the unilateral attempt after a failed one; load 1.7-3.8): coarse
+  480 tangents (30-4-4-4-4-3-3-3-3-3 and 120-51-18-13-13-13-8-12-8-44, 361 and 112 cut),
+  2.9-3.3 s; default 684 (49-30-13-4-4-3-3-3-3-3 and 201-50-39-30-14-18-19-40-39-15, 580 and
+  100 cut), 19.6-20.9 s. With the rule g_{k+1} < 0 alone (``ply_active_set.HYSTERESIS =
+  False``): coarse 562 tangents. With the rule's c (the gap's weight against the multiplier's,
+  k above; one-off runs with the block's freeze patched) 0.01, 0.1 and 10 k: 607, 574 and 427
+  tangents; the sag below at 2, 4, 8 plies 31-35-42, 32-32-75, 22-25-33.
+* bai at 20 plies (``--plies 20``, 30 cells; one pass each, side by side in two processes,
+  load 1-3.4): the ramp converges, 755 tangents (40-7-7-8-4-3-3-3-3-3 and
+  187-49-68-29-27-50-34-34-14-52, 625 and 125 cut, 5 cuts), 123 s CPU; the active set without
+  the prediction 2010 tangents (65-34-22-4-4-3-3-3-3-3 and 275-66-92-118-42-96-50-26-57-74,
+  1040 and 959 cut, 21 cuts), 324 s; with it 527 tangents (66-12-4-4-4-3-3-3-3-3 and
+  84-17-16-14-13-10-8-10-12-16, 305 and 225 cut, 9 cuts), 239 s (beside other jobs, load 2-3).
+* The plain penalty without a set (``elements.ply_contact.SMOOTHING = 0``, the ramp's solve
+  otherwise), bai coarse: 359 tangents (47-4-4-4-4-3-3-3-3-3 and 91-25-18-13-12-12-9-12-12-19,
+  5 cuts), 2.5 s.
+* The heavy stack of tests/test_plies.py (``Static(increments=1)``, 10 x 1 cells): ramp 23,
+  23, 26 Newton iterations at 2, 4, 8 plies; the active set predicted 6, 7, 9 (without the
+  prediction 27, 29, 34), the equilibrium within 5.9e-7, 7.4e-7, 7.9e-7 mm. Without the
+  prediction every set change flips 1-7 points whose gaps are 1e-10 to 1e-6 mm off, and their
+  force k g restarts the ratio at 0.1-0.5 (docs/theory.md §9.3a).
 """
 
 from __future__ import annotations
@@ -687,6 +734,8 @@ def solve_case(
     update_turn: float | None | str = "case",
     curved: bool | None = None,
     increments: int | None = None,
+    static_law: str = "ramp",
+    plies: int | None = None,
 ):
     """Solve the Static plies of case ``name`` at ``resolution`` with
     ``Static(stall_iterations=stall, first_turn=first_turn, update_turn=update_turn,
@@ -717,7 +766,9 @@ def solve_case(
             if solver.get(key, 0) is None:
                 del solver[key]
         case = _case(case_module.FILE, case_module.CELLS[resolution], {"solver": solver})
-        stack = ply_stack(case, case_module.PLIES[resolution])
+        count = case_module.PLIES[resolution] if plies is None else plies
+        stack = ply_stack(case, count, static_law=static_law)
+        RECORD["stack"] = stack  # the material lines of ``--active-set``
         model = stack_model(case, stack).compile()
         return plies_solver(case, progress=False).solve(model)
     from validation.cases import plies_deck_of_cards as deck
@@ -910,6 +961,50 @@ def report(result) -> None:
     )
 
 
+def active_set(name: str, resolution: str, plies: int | None, rounds: int) -> None:
+    """The case's solver on its plies with the ply contact's normal law under Static the
+    ramp and the active set (``PlyContact(static_law=...)``, elements/ply_active_set.py),
+    alternately ``rounds`` times in this process: iterations per increment, tangents, CPU,
+    and the largest change of the material lines between the two equilibria (tilt, deg;
+    thickness and mid-point, mm; ``PlyStack.material_lines``)."""
+    if name != "bai":
+        raise ValueError(f"--active-set: case {name!r}: expected bai")
+    results: dict[str, Any] = {}
+    for law in ("ramp", "active_set") * rounds:
+        RECORD.update(attempts=[])
+        cpu = time.process_time()
+        result = solve_case(name, resolution, static_law=law, plies=plies)
+        cpu = time.process_time() - cpu
+        results[law] = result
+        info = result.info
+        print(
+            f"--- {name} {resolution}, {RECORD['stack'].count} plies, static_law={law}: "
+            f"{cpu:.1f} s CPU, converged {result.converged}"
+        )
+        print(f"iterations per increment {info['iterations_per_increment']}")
+        print(
+            f"converged iterations {result.steps}, cut {info['iterations_cut']}, cuts "
+            f"{info['cuts']}, first-turn cuts {len(info['first_turn_cuts'])}; evaluations "
+            f"{info['evaluations']}",
+            flush=True,
+        )
+    stack = RECORD["stack"]
+    lines = {
+        law: stack.material_lines(result.positions, result.directors)
+        for law, result in results.items()
+    }
+    before, after = lines["ramp"], lines["active_set"]
+    tilt = np.degrees(np.abs(after.angle - before.angle)).max()
+    thickness = np.abs(after.thickness - before.thickness).max()
+    middle = np.linalg.norm(after.midpoint - before.midpoint, axis=1).max()
+    moved = np.abs(results["active_set"].positions - results["ramp"].positions).max()
+    print(
+        f"material lines: tilt within {tilt:.3g} deg, thickness within {thickness:.3g} mm, "
+        f"mid-point within {middle:.3g} mm; nodes within {moved:.3g} mm (the ramp's delta "
+        f"{1e-3 * stack.ply_thickness:.3g} mm)"
+    )
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--case", default="bai", help="bai, heavy, deck or sag")
@@ -966,8 +1061,20 @@ def main() -> None:
         action="store_true",
         help="the default report's five decks without and with the case's soft start",
     )
+    parser.add_argument(
+        "--active-set",
+        action="store_true",
+        help="the case's solver with the ply contact's ramp and with static_law='active_set'",
+    )
+    parser.add_argument(
+        "--plies", type=int, default=None, help="with --active-set: the plies (the case's)"
+    )
     args = parser.parse_args()
     print(f"load before (1, 5, 15 min): {np.round(os.getloadavg(), 2).tolist()}")
+    if args.active_set:
+        active_set(args.case, args.resolution, args.plies, args.rounds)
+        print(f"load (1, 5, 15 min): {np.round(os.getloadavg(), 2).tolist()}")
+        return
     if args.deck_start:
         deck_starts()
         print(f"load (1, 5, 15 min): {np.round(os.getloadavg(), 2).tolist()}")

@@ -152,6 +152,9 @@ class PlyStack:
     friction : float
         The Coulomb coefficient mu >= 0 between neighbouring plies, given to every PlyContact
         (0, default: frictionless).
+    static_law : str
+        The ply contact's normal law under Static (``PlyContact(static_law=...)``): "ramp"
+        (default) or "active_set" (elements/ply_active_set.py).
 
     Attributes
     ----------
@@ -173,7 +176,7 @@ class PlyStack:
     ------
     ValueError
         Not a Mesh with triangles, not a Fabric, a bad count, an element factory that is
-        not callable, a bad penalty, rule, smoothing or friction.
+        not callable, a bad penalty, rule, smoothing, friction or static_law.
     """
 
     def __init__(
@@ -186,6 +189,7 @@ class PlyStack:
         rule: str = "centroid",
         smoothing: float | None = None,
         friction: float = 0.0,
+        static_law: str = "ramp",
     ):
         if not isinstance(mesh, Mesh) or len(mesh.triangles) == 0:
             raise ValueError(f"PlyStack needs a triangle Mesh (the mid-surface), got {mesh!r}")
@@ -210,9 +214,11 @@ class PlyStack:
         self.penalty = penalty
         # validated here, at the API boundary, rather than when the model is built
         PlyContact(
-            "ply_2", "ply_1", penalty=penalty, rule=rule, smoothing=smoothing, friction=friction
-        )
+            "ply_2", "ply_1", penalty=penalty, rule=rule, smoothing=smoothing, friction=friction,
+            static_law=static_law,
+        )  # fmt: skip
         self.rule, self.smoothing, self.friction = rule, smoothing, float(friction)
+        self.static_law = static_law
         h = fabric.thickness
         self.offsets = -h / 2.0 + (np.arange(1, count + 1) - 0.5) * h / count
         n, m = mesh.n_nodes, len(mesh.triangles)
@@ -279,6 +285,7 @@ class PlyStack:
             rule=self.rule,
             smoothing=self.smoothing,
             friction=self.friction,
+            static_law=self.static_law,
         )
         return model
 

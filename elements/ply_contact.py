@@ -138,6 +138,7 @@ from typing import Any
 
 import numpy as np
 
+from elements.ply_active_set import LAWS, ActiveSetPlyContactBlock
 from elements.ply_block import DOFS, PENALTY_SHARE, RULES, PlyContactBlock
 from elements.ply_projection import MARGIN, Facing, penalty_law
 from femcore.interaction import Body, Interaction
@@ -234,13 +235,22 @@ class PlyContact(Interaction):
         upper ply's lower face against the lower ply's upper face; "lower", the rule's points
         of the lower ply's upper face against the upper ply's lower face (module docstring,
         "Both ways": the two together hold each ply's points off the other's face).
+    static_law : str
+        The normal law while a quasi-static solver iterates, one of
+        ``elements.ply_active_set.LAWS``: "ramp" (default), the smoothed penalty every solver
+        takes; "active_set", a primal-dual active set of points under the bilateral penalty
+        k/2 g^2, frozen within each Newton iteration and chosen again between them, whose
+        converged state is an equilibrium of the plain k/2 min(g, 0)^2
+        (elements/ply_active_set.py; frictionless flat faces only). The explicit solver and
+        dynamic relaxation take the ramp with either.
 
     Raises
     ------
     ValueError
         Empty or non-integer selections, a negative or non-finite offset or smoothing, a
         penalty that is not a positive number, fewer than one candidate, an unknown rule,
-        faces, surface or points; at
+        faces, surface, points or static_law, static_law "active_set" with friction or
+        curved faces; at
         bind, unknown set names, ids out of range, triangles of no area (coincident or
         collinear corners, named), nodes of the upper triangles that are corners of the
         lower triangles, nodes without directors.
@@ -263,6 +273,7 @@ class PlyContact(Interaction):
         faces: str = "director",
         surface: str = "flat",
         points: str = "upper",
+        static_law: str = "ramp",
     ):
         self.upper = upper if isinstance(upper, str) else _ids(upper, "upper triangle")
         self.lower = lower if isinstance(lower, str) else _ids(lower, "lower triangle")
@@ -318,6 +329,14 @@ class PlyContact(Interaction):
         if points not in POINTS:
             raise ValueError(f"points must be one of {POINTS}, got {points!r}")
         self.points = points
+        if static_law not in LAWS:
+            raise ValueError(f"static_law must be one of {LAWS}, got {static_law!r}")
+        if static_law == "active_set" and (self.friction > 0.0 or surface != "flat"):
+            raise ValueError(
+                "static_law='active_set' takes frictionless flat faces only, got "
+                f"friction={self.friction!r}, surface={surface!r}"
+            )
+        self.static_law = static_law
 
     def bind(self, body: Body) -> PlyContactBlock:
         mesh = body.mesh
@@ -374,11 +393,12 @@ class PlyContact(Interaction):
         smoothing = self.smoothing
         if smoothing is None:
             smoothing = SMOOTHING * float(np.mean(a[above]) + np.mean(b[cells]))
+        kind = ActiveSetPlyContactBlock if self.static_law == "active_set" else PlyContactBlock
         if self.points == "lower":  # the points on the lower ply's upper face, x + b d
             # against the upper ply's lower face, x - a d, its triangles turned so that their
             # normal points towards the lower ply (module docstring, "Both ways")
-            return PlyContactBlock(self, cells, above[:, [0, 2, 1]], -b, -a, smoothing, body)
-        return PlyContactBlock(self, above, cells, a, b, smoothing, body)
+            return kind(self, cells, above[:, [0, 2, 1]], -b, -a, smoothing, body)
+        return kind(self, above, cells, a, b, smoothing, body)
 
 
 def _refuse_flat(points: np.ndarray, triangles: np.ndarray, ids: np.ndarray, name: str) -> None:

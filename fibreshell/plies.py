@@ -40,9 +40,12 @@ def _fibrous_part(case: Case) -> FibrousShell:
     return fibrous[0]
 
 
-def ply_stack(case: Case, count: int | None = None, penalty: float | None = None) -> PlyStack:
+def ply_stack(
+    case: Case, count: int | None = None, penalty: float | None = None, static_law: str = "ramp"
+) -> PlyStack:
     """The PlyStack of the case's fibrous part: ``count`` plies (default the fabric's
-    ``ply_count``), each ``MindlinShell(ply_fabric)`` with the part's warp.
+    ``ply_count``), each ``MindlinShell(ply_fabric)`` with the part's warp, their contact's
+    normal law under Static ``static_law`` (``elements.plies.PlyStack``).
 
     Raises
     ------
@@ -65,7 +68,7 @@ def ply_stack(case: Case, count: int | None = None, penalty: float | None = None
     warp = element.warp
     return PlyStack(
         case.mesh, fabric, count, element=lambda ply: MindlinShell(ply, warp=warp),
-        penalty=penalty,
+        penalty=penalty, static_law=static_law,
     )  # fmt: skip
 
 

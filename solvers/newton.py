@@ -62,6 +62,14 @@ spring where it slides leaves a state far off). After MAX_CONTACT_UPDATES wrong 
 increment goes on with the unilateral law itself, which settles the nodes whose contact force
 is near zero (a lift-off) where frozen sets alternate.
 
+Contact sets predicted (solvers.contact_sets): where an interaction's set is an active set of
+a bilateral penalty (the ply contact's ``static_law="active_set"``, elements/ply_active_set.py),
+the set of each step's end is chosen on the step's own linear model before the step is taken
+(the switched points' rank-one terms by Sherman-Morrison-Woodbury on the factors made), so
+that the step and its set agree; the line search starts again from the new set. An attempt of
+such an interaction that fails is cut without the unilateral attempt (its
+``unilateral_fallback``).
+
 Stalled attempts (``Static(stall_iterations=N)``, off by default; ``stalled``): an attempt
 whose residual ratio stayed above STALLED_RATIO over its last N iterations is cut at once.
 
@@ -87,6 +95,7 @@ from femcore.dofs import N_COLUMNS, Frames
 from femcore.interaction import InteractionBlock
 from femcore.model import CompiledModel
 from femcore.state import State
+from solvers import contact_sets
 from solvers.common import IncrementFailed, StepTooLong
 from solvers.convergence import Equilibrium
 from solvers.inertia import convexified_step
@@ -159,6 +168,15 @@ def newton(
         # force is decided by the gaps alone) the unilateral attempt would repeat the frozen
         # one iteration for iteration and fail alike: the increment is cut at once.
         if not keeps_contact_sets(run.model):
+            raise
+        # Nor where each set-keeping interaction's unilateral law is known to stall
+        # (``unilateral_fallback = False``: the ply contact's active set, whose unilateral law
+        # is the plain penalty; elements/ply_active_set.py).
+        if not any(
+            getattr(part, "unilateral_fallback", True)
+            for part in run.model.interactions
+            if type(part).freeze is not InteractionBlock.freeze
+        ):
             raise
         run.info["contact_set_fallbacks"] += 1
         try:
@@ -359,6 +377,15 @@ def _iterate(
             run.info["regularised_iterations"] += 1
             if delta_free is None:
                 raise IncrementFailed(f"singular tangent stiffness: {mechanism(model)}")
+        if frozen and not regularised and contact_sets.PREDICTED:
+            # The sets of the step's end chosen on its linear model (solvers/contact_sets.py):
+            # the step with them, the residual at ``state`` under them, a new line search.
+            predicted = contact_sets.predicted_sets(run, state, frames, factor, delta_free, left)
+            if predicted is not None:
+                state, delta_free, change = predicted
+                r = r - np.where(dofs.free, change.reshape(r.shape), 0.0)
+                forces = None  # the accepted trial's, made with the new sets
+                watchdog = Watchdog(run, equilibrium, solver.line_search, solver.update_turn)
         if turn_limit is not None and iteration == 1:
             # The first step is linear in the increment: one that turns a director too far
             # asks for a smaller increment before any iteration is spent (solvers.load_path).

@@ -271,6 +271,7 @@ def plies(
     points: str = "upper",
     lower_size: float = 4.0,
     stick: str = "penalty",
+    static_law: str = "ramp",
 ):
     """(block, state, None) of PlyContact between the two jittered plies, turned (the lower
     ply ``lower_size`` mm square); with
@@ -311,6 +312,7 @@ def plies(
         friction=friction,
         stick=stick,
         points=points,
+        static_law=static_law,
     )
     block = contact.bind(Body(mesh, (), directors, active))
     zero = np.zeros((n, 3))
@@ -331,6 +333,31 @@ def test_ply_contact_conforms(rule, smoothing):
     if smoothing:  # the ramp is exercised
         assert np.sum(facing.touching & (facing.gap > -smoothing)) >= 2
     check_interaction(block, state, history)  # gradient (forces and moments), tangent, energy
+    check_objectivity(build, TURN)
+
+
+@pytest.mark.parametrize("rule", ["centroid", "gauss"])
+@pytest.mark.parametrize("points", ["upper", "lower"])
+def test_ply_contact_with_a_frozen_active_set_conforms(rule, points):
+    """The ply contact's law under Static as an active set (elements/ply_active_set.py): with
+    a frozen set holding every other point of those that may touch, pressed ones and ones
+    pulled apart alike (k/2 g^2 on each), the forces are the energy's gradient, the tangent
+    their derivative, and they turn with the plies."""
+    from elements.ply_active_set import FrozenSides
+
+    def build(turn=UNTURNED):
+        block, state, _ = plies(turn, rule=rule, points=points, static_law="active_set")
+        sides = block.initial_history()
+        held, reachable = block._reachable(state, sides)
+        chosen = reachable & (np.arange(len(reachable)) % 2 == 0)
+        pressure = np.zeros(len(chosen))
+        history = FrozenSides(sides.sides, sides.faces, sides.corners, chosen, pressure)
+        return block, state, history
+
+    block, state, history = build()
+    gap = np.asarray(block._held(state, history).gap)[history.active]
+    assert (gap < 0).sum() >= 2 and (gap > 0).sum() >= 1
+    check_interaction(block, state, history)
     check_objectivity(build, TURN)
 
 
