@@ -50,7 +50,8 @@ def ply_stack(
     Raises
     ------
     ValueError
-        Not one fibrous part, no count given for a fabric without a ply count, tools.
+        Not one fibrous part, no count given for a fabric without a ply count, tools, an
+        unknown ``static_law`` (``elements.ply_active_set.LAWS``).
     """
     element = _fibrous_part(case)
     fabric = element.fabric

@@ -153,9 +153,10 @@ def newton(
     cut. With contact, the frozen contact sets first (module docstring); where they fail,
     the unilateral law from ``state`` again before the increment is cut (the iterations of
     both are counted), unless no interaction keeps a contact set (``keeps_contact_sets``),
-    when the two attempts would be one. ``turn_limit`` (rad): StepTooLong, before any update,
-    when the first Newton step turns a director by more (Static's ``first_turn``,
-    solvers.load_path).
+    when the two attempts would be one, or every one that keeps a set says its unilateral law
+    stalls (``unilateral_fallback = False``: the ply contact's active set). ``turn_limit``
+    (rad): StepTooLong, before any update, when the first Newton step turns a director by
+    more (Static's ``first_turn``, solvers.load_path).
     """
     if not run.model.interactions:
         return _newton(run, state, load_factor, max_iterations, False, turn_limit)
@@ -202,14 +203,16 @@ def compression_free_ratio(ratio: float | None, model: CompiledModel) -> float:
 
 def keeps_contact_sets(model: CompiledModel) -> bool:
     """Whether an interaction of ``model`` has contact sets that the iterations freeze (its
-    block overrides ``InteractionBlock.freeze``, as the tools' contact does): without one,
+    block overrides ``InteractionBlock.freeze``, as the tools' contact and the ply contact's
+    active set, elements/ply_active_set.py, do): without one,
     the frozen iterations of ``newton`` are those of the unilateral law itself."""
     return any(type(part).freeze is not InteractionBlock.freeze for part in model.interactions)
 
 
 def curves_with_contact(model: CompiledModel, history: tuple) -> bool:
     """Whether ``Static(curved_with_contact=True)`` curves the steps of ``model`` at a state
-    of ``history``: no interaction keeps contact sets (the tools' contact does) or a history
+    of ``history``: no interaction keeps contact sets (the tools' contact and the ply
+    contact's active set do: their steps are never curved) or a history
     beyond the gaps' (the plies' friction: its return mapping may cross a stick limit on a
     probe of the path; on a frictional two-ply deck 54 curved steps took 302 iterations cut
     against 47 uncurved). The plies' sides (``gaps_decide``, elements/ply_sides.py), held
@@ -377,9 +380,17 @@ def _iterate(
             run.info["regularised_iterations"] += 1
             if delta_free is None:
                 raise IncrementFailed(f"singular tangent stiffness: {mechanism(model)}")
-        if frozen and not regularised and contact_sets.PREDICTED:
+        # Steps on an indefinite tangent are turned downhill, except on the way from a kept
+        # saddle: the path of saddles no push descends from is followed by plain Newton (a
+        # turned step there heads off the path and finds no lower branch), and each converged
+        # state of it is checked again.
+        turn = escapes or (factor.negative and not run.on_kept_saddle)
+        turned = turn and solver.seek_stable
+        if frozen and not regularised and not turned and contact_sets.PREDICTED:
             # The sets of the step's end chosen on its linear model (solvers/contact_sets.py):
-            # the step with them, the residual at ``state`` under them, a new line search.
+            # the step with them, the residual at ``state`` under them, a new line search. Not
+            # on a step turned below: the turn takes the tangent and right-hand side of the
+            # sets the step began with, and a predicted step would mix the two systems.
             predicted = contact_sets.predicted_sets(run, state, frames, factor, delta_free, left)
             if predicted is not None:
                 state, delta_free, change = predicted
@@ -394,12 +405,7 @@ def _iterate(
             first_turn = float(np.linalg.norm(turns[:, 3:], axis=1).max(initial=0.0))
             if first_turn > turn_limit:
                 raise StepTooLong(first_turn)
-        # Steps on an indefinite tangent are turned downhill, except on the way from a kept
-        # saddle: the path of saddles no push descends from is followed by plain Newton (a
-        # turned step there heads off the path and finds no lower branch), and each converged
-        # state of it is checked again.
-        turn = escapes or (factor.negative and not run.on_kept_saddle)
-        if turn and solver.seek_stable:
+        if turned:
             # More negative modes than downhill turns: the shifted tangent's step (inertia).
             shifted = (
                 None if push else convexified_step(run, k_ff, rhs, factor.negative, delta_free)
