@@ -73,6 +73,8 @@ sys.path.insert(0, str(HERE))  # run from anywhere, no install
 PARTS = (
     ("committed history (ply blocks)", "elements/ply_block.py", "update_history"),
     ("  the facing (all calls)", "elements/ply_block.py", "facing"),
+    ("    front's call (faces, choice)", "elements/ply_facing_front.py", "begun"),
+    ("    facing's second call", "elements/ply_facing_whole.py", "finished_facing"),
     ("    whole facing (compiled pair)", "elements/ply_facing_whole.py", "whole_facing"),
     ("    search's candidates", "elements/ply_block.py", "_candidates"),
     ("      full re-searches", "elements/ply_search.py", "_renew"),

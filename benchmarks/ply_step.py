@@ -69,7 +69,9 @@ ROOT = Path(__file__).resolve().parents[1]
 PARTS = (
     ("femcore.compiled", "CompiledModel", "commit", "commit (the new state's history)"),
     ("elements.ply_block", "PlyContactBlock", "facing", "  the facing, both passes"),
-    ("elements.ply_block", None, "closest_facing", "    closest_facing"),
+    ("elements.ply_facing_front", None, "begun", "    the front's call (faces, lists, choice)"),
+    ("elements.ply_facing_front", None, "finished_facing", "      the facing's second call"),
+    ("elements.ply_block", None, "closest_facing", "    closest_facing (no choice made before)"),
     ("elements.ply_choice", None, "choose_facing", "      the choice"),
     ("elements.ply_fade_kernels", None, "outline_fade_at", "      the outline's fade"),
     ("elements.ply_edge_kernels", None, "edge_sides", "      the edges' sides"),
