@@ -10,6 +10,11 @@ the step's parts as shares of the march (cumulative times of the entry points na
 One numba thread; run it beside a reference tree (``git archive`` of main) on the same load,
 its own copy run from its root, and compare the steps and CPU a step.
 
+The facing's choice made in the front's call (elements/ply_facing_front.py ``CHOSEN``), this
+script's Mindlin [0/90] run from each tree alternately, three rounds (one thread, nice 5, load
+1.7-2.3): 36.22 / 36.34 / 36.37 s of CPU against main 15bf388's 37.21 / 37.67 / 37.24 (best
+0.973), 32225 steps each.
+
 Measured (main 5e52abb, one thread, nice 5, 2 cores shared, load 10.0-13.2: the CPU a step
 inflated by the load; the shares are of a profiled run's march):
 

@@ -27,7 +27,37 @@ bookkeeping. Each state's facing is made once (at the commit) and served from th
 cache to the next step's loads, energy and springs: what a step pays for is the facing
 itself, about twenty compiled calls a pass and their numpy glue, none of them dominant.
 
-Measured (this script, best of 2-3, one thread, nice 5):
+Where it goes since the facing's choice is made in the front's call (``--parts``, one
+thread, load 1.4-1.8, each kernel's own line its compiled call alone), Mindlin [0/90] steps
+3400-5000 (1.091 ms a step so timed) / fibrous [0/90] steps 1700-2500 (1.607 ms): the commit
+0.513 / 0.624 ms, of it the facing 0.324 / 0.378 (the front's call 0.286 / 0.329, its kernel
+0.110 / 0.118; the second call 0.116 / 0.119, its kernel 0.069 / 0.073) and the friction's
+history 0.132 / 0.145 (its kernel 0.039 / 0.048); the ply loads 0.143 / 0.177 (their kernel
+0.049 / 0.050); the fibrous plies 0.150; the tools' forces for the history rows 0.018 /
+0.248; the stable step 0.06. The ply contact's four compiled calls a block take 0.27 / 0.29
+ms of a step, its Python round them 0.39 / 0.51: the allocations of the facing's fresh
+arrays and their copies kept for the state's later calls (about 10 us a block for the
+first call's 21 outputs), the kept-state checks, the masks of the sides, the landing and
+the loads, and the calls' own conversion of 33-58 arguments (about 5 us each, measured
+with an empty kernel of 52 arguments: 4.6 us). No item above about 10 us a block: the
+whole ply glue, were it all gone, is about a third of the Mindlin step, not a half.
+
+Measured (this script, best of 2-4, one thread, nice 5):
+
+* the facing's choice made in the front's call (elements/ply_facing_front.py ``CHOSEN``;
+  98 % of the fibrous run's new facings, all but 4 of 10000 of the Mindlin run's first 5000
+  steps, the rest refreshes and new epochs) against main 15bf388, load 1.7-2.0: Mindlin
+  [0/90] steps 3400-5000 0.959 against 0.992 ms a step (0.967), fibrous [0/90] steps
+  1700-2500 1.485 against 1.485 (1.000, within the noise), the states at steps 5000 and
+  2500 identical to the bit; the whole case (``python -m validation --cases
+  hemisphere-plies --jobs 1`` from each tree) the same 333 numbers of results.json but the
+  times and the same three PNGs byte for byte. Tried, not kept: the next step's ply loads
+  made in the history's pass of the commit and kept for them (one compiled call a block
+  and step less, the same bits at every state of a 1600-step window): on a bent state the
+  pass 46 -> 77 us a block, the loads' call 35 -> 2.6 us served kept (one-off timeit, load
+  1.5), no gain together; Mindlin steps 3400-5000 with both cuts 0.950 against 0.972 ms
+  (0.978), as with the choice's alone (0.967-0.978): the loads' cost is their kernel (25 us
+  a block in the run, ``--parts``), not the Python round it;
 
 * the sides accepted at a commit from the flags its held facing was made with, the held
   facing kept for the new sides (elements/ply_sides.py ``accepted_sides``), and the
@@ -70,7 +100,9 @@ PARTS = (
     ("femcore.compiled", "CompiledModel", "commit", "commit (the new state's history)"),
     ("elements.ply_block", "PlyContactBlock", "facing", "  the facing, both passes"),
     ("elements.ply_facing_front", None, "begun", "    the front's call (faces, lists, choice)"),
+    ("elements.ply_facing_front", None, "_front_chosen", "      its kernel"),
     ("elements.ply_facing_front", None, "finished_facing", "      the facing's second call"),
+    ("elements.ply_facing_whole", None, "_sides_fade_compiled", "        its kernel"),
     ("elements.ply_block", None, "closest_facing", "    closest_facing (no choice made before)"),
     ("elements.ply_choice", None, "choose_facing", "      the choice"),
     ("elements.ply_fade_kernels", None, "outline_fade_at", "      the outline's fade"),
@@ -79,9 +111,11 @@ PARTS = (
     ("elements.ply_chosen", None, "chosen", "      the chosen arrays"),
     ("elements.ply_block", "PlyContactBlock", "_candidates", "    the kept lists, faces"),
     ("elements.ply_friction_kernels", None, "updated_history", "  the friction's history"),
+    ("elements.ply_friction_pass", None, "_history_compiled", "    its kernel"),
     ("solvers.explicit", None, "explicit_step", "the step (forces, update)"),
     ("femcore.compiled", "CompiledModel", "internal_force", "  the forces"),
     ("elements.ply_block", "PlyContactBlock", "internal_force", "    the ply loads"),
+    ("elements.ply_load_kernels", None, "_loads", "      their kernel"),
     ("elements.fibrous.block", "FibrousShellBlock", "internal_force", "    the fibrous plies"),
     ("femcore.compiled", "CompiledModel", "tool_forces", "the tools' forces (history rows)"),
     ("solvers.explicit", "CentralDifference", "_step_size", "the stable step"),
