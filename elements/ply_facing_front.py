@@ -100,20 +100,25 @@ _front_pass = _front
 @lanes
 def _front_chosen(
     x, normals, triangles, directions, above, upper_offset, shape, cells, corner_offset, p, y,
-    toward, epoch, reach, origin, shift_then, moved_then, shift, drift, epoch_bound, bound,
-    near, outline, margin, inside, has_cuts, cut, lines, ends, nodes, fans, best, on_edge,
-    closest, on_cut, segment, along, triangle, chosen_gap, normal, lam, chosen_gradients,
-    chosen_reach, overshoot, reached, turned, on_q, rise, run, plane_normal, plane_gap,
-    plane_lam,
+    toward, listed, epoch, reach, origin, shift_then, moved_then, shift, drift, epoch_bound,
+    bound, faces, corners, near, outline, margin, inside, has_cuts, cut, lines, ends, nodes,
+    fans, best, on_edge, closest, on_cut, segment, along, triangle, chosen_gap, normal, lam,
+    chosen_gradients, chosen_reach, overshoot, reached, turned, on_q, rise, run, plane_normal,
+    plane_gap, plane_lam,
 ):  # fmt: skip
-    """``_front`` over kept lists (``epoch`` .. ``moved_then``) and, where they serve as they
-    are (p and y finite, M <= ``epoch_bound``, every drift < ``bound``: ``FacingSearch.near``'s
-    tests, which then hand back the kept candidates ``near``), the facing's first call
-    (elements/ply_facing_whole.py ``_choice``, its outputs ``best`` .. ``plane_lam``) on them
-    with ``toward``. Returns (whether p and y are finite, M, whether the choice was made)."""
+    """``_front`` over kept lists (``listed`` True, ``epoch`` .. ``moved_then``) and, where they
+    serve as they are (p and y finite, M <= ``epoch_bound``, every drift < ``bound``:
+    ``FacingSearch.near``'s tests, which then hand back the kept candidates ``near``), the
+    facing's first call (elements/ply_facing_whole.py ``_choice``, its outputs ``best`` ..
+    ``plane_lam``) on them with ``toward``. ``faces`` and ``corners``: read-only views of
+    ``p`` and ``y``, which the choice reads (the types ``whole_facing`` hands it, so that the
+    choice's build and its stages' are the ones already made, not a second build of each for
+    writable arrays: some 5 s of CPU on an empty cache; ``listed`` given, not the literal
+    True, for the same reason). Returns (whether p and y are finite, M, whether the choice
+    was made)."""
     finite, moved = _front_pass(
         x, normals, triangles, directions, above, upper_offset, shape, cells, corner_offset, p,
-        y, toward, True, epoch, reach, origin, shift_then, moved_then, shift, drift,
+        y, toward, listed, epoch, reach, origin, shift_then, moved_then, shift, drift,
     )  # fmt: skip
     if not finite or not moved <= epoch_bound:  # (NaN too)
         return finite, moved, False
@@ -121,10 +126,10 @@ def _front_chosen(
         if not drift[i] < bound:
             return finite, moved, False
     _choice_compiled(
-        p, y, near, outline, margin, inside, has_cuts, cut, lines, ends, toward, True, nodes,
-        fans, best, on_edge, closest, on_cut, segment, along, triangle, chosen_gap, normal, lam,
-        chosen_gradients, chosen_reach, overshoot, reached, turned, on_q, rise, run,
-        plane_normal, plane_gap, plane_lam,
+        faces, corners, near, outline, margin, inside, has_cuts, cut, lines, ends, toward,
+        listed, nodes, fans, best, on_edge, closest, on_cut, segment, along, triangle,
+        chosen_gap, normal, lam, chosen_gradients, chosen_reach, overshoot, reached, turned,
+        on_q, rise, run, plane_normal, plane_gap, plane_lam,
     )  # fmt: skip
     return finite, moved, True
 
@@ -185,9 +190,9 @@ def begun(
         face = _face_inputs(block.topology, block.outline, block.cuts, m)
         arrays = chosen_outputs(count, face.fans.shape[1])
         finite, moved, chosen = _front_chosen(
-            *front, lists.epoch, search.reach, *listed[1:], shift, drift,
+            *front, True, lists.epoch, search.reach, *listed[1:], shift, drift,
             ply_search.EPOCH_SHARE * search.skin,
-            0.5 * (1.0 - ply_search.ROUNDING) * search.skin,
+            0.5 * (1.0 - ply_search.ROUNDING) * search.skin, _viewed(p), _viewed(y),
             np.ascontiguousarray(lists.near, dtype=ints), face.outline, MARGIN, INSIDE,
             face.has_cuts, face.cut, face.lines, face.cut_ends, face.nodes, face.fans, *arrays,
         )  # fmt: skip
@@ -206,6 +211,13 @@ def begun(
         return finished_facing(p, y, *given, *found, arrays)
     moves = None if lists is None else (float(moved), shift, drift)
     return p, search.near(p, y, moves), y, ahead  # (read-only, as kept)
+
+
+def _viewed(array: np.ndarray) -> np.ndarray:
+    """A read-only view of ``array`` (the array keeps its own flag)."""
+    view = array.view()
+    view.flags.writeable = False
+    return view
 
 
 def choosing(block: PlyContactBlock) -> bool:
