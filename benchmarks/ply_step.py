@@ -11,6 +11,12 @@ directors, velocities).
 
     NUMBA_NUM_THREADS=1 nice -n 5 python benchmarks/ply_step.py --reference /tmp/main
     NUMBA_NUM_THREADS=1 nice -n 5 python benchmarks/ply_step.py --parts --kinematics mindlin
+    NUMBA_NUM_THREADS=1 nice -n 5 python benchmarks/ply_step.py --kinematics mindlin \
+        --toggle elements.ply_facing_front.CHOSEN --start 1000 --stop 9000
+
+``--toggle`` compares a flag that keeps the bits with itself in one process: False and True by
+turns every ``--every`` steps of the window, each setting's CPU a step (the load's drift, which
+two processes one after the other each meet alone, falls on both settings alike).
 
 Where a step's time goes (``--parts``: each function's CPU summed with a timer round it, so a
 little over the step's own; this tree, one thread, load 3.6-5.9), fibrous [0/90] steps
@@ -46,10 +52,13 @@ Measured (this script, best of 2-4, one thread, nice 5):
 
 * the facing's choice made in the front's call (elements/ply_facing_front.py ``CHOSEN``;
   98 % of the fibrous run's new facings, all but 4 of 10000 of the Mindlin run's first 5000
-  steps, the rest refreshes and new epochs) against main 15bf388, load 1.7-2.0: Mindlin
-  [0/90] steps 3400-5000 0.959 against 0.992 ms a step (0.967), fibrous [0/90] steps
-  1700-2500 1.485 against 1.485 (1.000, within the noise), the states at steps 5000 and
-  2500 identical to the bit; the whole case (``python -m validation --cases
+  steps, the rest refreshes and new epochs): ``--toggle`` (every 50 steps, load 4.5-5.9)
+  Mindlin [0/90] steps 1000-9000 1.0992 -> 1.0648 ms a step (0.969), 12000-20000 1.3131 ->
+  1.2956 (0.987), 22000-30000 1.3957 -> 1.3743 (0.985), fibrous [0/90] steps 500-4000
+  1.7344 -> 1.7147 (0.989): 20-34 us a step. Against main 15bf388 in two processes (best of
+  4-6, load 1.7-2.8) Mindlin steps 3400-5000 0.959 / 0.966 against 0.992 / 0.994 ms,
+  fibrous steps 1700-2500 1.485 / 1.517 against 1.485 / 1.513 (within the noise), the states
+  at steps 5000 and 2500 identical to the bit; the whole case (``python -m validation --cases
   hemisphere-plies --jobs 1`` from each tree) the same 333 numbers of results.json but the
   times and the same three PNGs byte for byte. Tried, not kept: the next step's ply loads
   made in the history's pass of the commit and kept for them (one compiled call a block
@@ -78,6 +87,7 @@ Measured (this script, best of 2-4, one thread, nice 5):
 from __future__ import annotations
 
 import argparse
+import importlib
 import json
 import os
 import subprocess
@@ -152,10 +162,15 @@ def window(
     kinematics: str = "fibrous",
     parts: bool = False,
     settings: dict | None = None,
+    toggle: str | None = None,
+    every: int = 50,
 ):
     """Run the case's ``kinematics`` [0/90] run to step ``stop``, print the CPU per step (ms)
     of the steps ``start`` .. ``stop`` and save the state there to ``out`` (.npz); with
-    ``parts``, each of ``PARTS``' CPU a step in the window too (timed, so a little slower).
+    ``parts``, each of ``PARTS``' CPU a step in the window too (timed, so a little slower);
+    with ``toggle`` ("module.FLAG", a flag that keeps the bits), the flag set False and True
+    by turns every ``every`` steps of the window, each setting's CPU a step printed (one
+    process, the same states: the load's drift falls on both alike).
     ``settings``: the solver's (validation/studies/hemisphere_plies_run.py ``case_settings``,
     handed over by this tree to a tree of the code before, which may not have it; None: this
     tree's)."""
@@ -176,11 +191,23 @@ def window(
     marks: dict[str, float] = {}
     count = [0]
 
+    flag_module, flag = (None, "") if toggle is None else toggle.rsplit(".", 1)
+    owner = None if flag_module is None else importlib.import_module(flag_module)
+    by_setting = {False: [0.0, 0], True: [0.0, 0]}
+
     def counted(state: State) -> State:
         count[0] += 1
+        now = time.process_time()
         if count[0] == start:
-            marks["start"] = time.process_time()
+            marks["start"] = now
             spent.clear()
+        if owner is not None and start <= count[0] <= stop:
+            if count[0] > start:  # the step that ends here ran with the setting of before
+                setting = bool(getattr(owner, flag))
+                by_setting[setting][0] += now - marks["last"]
+                by_setting[setting][1] += 1
+            setattr(owner, flag, (count[0] - start) // every % 2 == 1)
+            marks["last"] = time.process_time()
         accepted = commit(compiled, state)
         if count[0] == stop:
             marks["stop"] = time.process_time()
@@ -201,6 +228,8 @@ def window(
             solver.solve(compiled)
         except SolverError:
             pass
+    for setting, (cpu, steps) in by_setting.items() if owner is not None else ():
+        print(f"{toggle} {setting}: {cpu / max(steps, 1) * 1e3:.4f} ms a step ({steps} steps)")
     for *_, label in PARTS if parts else ():
         print(f"{label:40s} {spent.get(label, 0.0) / (stop - start) * 1e3:7.3f} ms a step")
     print(f"{(marks['stop'] - marks['start']) / (stop - start) * 1e3:.4f}")
@@ -242,6 +271,8 @@ def main() -> None:
     parser.add_argument("--repeats", type=int, default=3, help="rounds (best CPU)")
     parser.add_argument("--kinematics", default="fibrous", help="fibrous or mindlin plies")
     parser.add_argument("--parts", action="store_true", help="this tree's parts of a step")
+    parser.add_argument("--toggle", help="module.FLAG set False / True by turns in the window")
+    parser.add_argument("--every", type=int, default=50, help="steps between the turns")
     parser.add_argument("--window", nargs=3, help=argparse.SUPPRESS)
     parser.add_argument("--settings", help=argparse.SUPPRESS)  # a --window child's solver
     args = parser.parse_args()
@@ -250,10 +281,12 @@ def main() -> None:
         window(int(args.window[0]), int(args.window[1]), args.window[2], args.kinematics,
                settings=settings)  # fmt: skip
         return
-    if args.parts:
+    if args.parts or args.toggle:
         print(f"load {os.getloadavg()}")
         with tempfile.TemporaryDirectory() as folder:
-            window(args.start, args.stop, str(Path(folder) / "state.npz"), args.kinematics, True)
+            out = str(Path(folder) / "state.npz")
+            window(args.start, args.stop, out, args.kinematics, args.parts, None, args.toggle,
+                   args.every)  # fmt: skip
         print(f"load {os.getloadavg()}")
         return
     trees = {"this": ROOT} | ({"reference": args.reference.resolve()} if args.reference else {})
