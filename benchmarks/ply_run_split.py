@@ -10,6 +10,14 @@ the step's parts as shares of the march (cumulative times of the entry points na
 One numba thread; run it beside a reference tree (``git archive`` of main) on the same load,
 its own copy run from its root, and compare the steps and CPU a step.
 
+The facing's choice made in the front's call (elements/ply_facing_front.py ``CHOSEN``), this
+script's Mindlin [0/90] run from each tree alternately, three rounds (one thread, nice 5, load
+1.7-2.3): 36.22 / 36.34 / 36.37 s of CPU against main 15bf388's 37.21 / 37.67 / 37.24 (best
+0.973), 32225 steps each; again with the choice handed read-only views (its build shared),
+as the load rose from 1.8 to 7.5: 39.31 / 40.26 / 40.33 against 37.82 / 40.23 / 41.01, round
+by round 1.04 / 1.00 / 0.98 (the noise as large as the cut: benchmarks/ply_step.py
+``--toggle`` measures it within one run, 1.5-3 %).
+
 Measured (main 5e52abb, one thread, nice 5, 2 cores shared, load 10.0-13.2: the CPU a step
 inflated by the load; the shares are of a profiled run's march):
 
@@ -73,6 +81,8 @@ sys.path.insert(0, str(HERE))  # run from anywhere, no install
 PARTS = (
     ("committed history (ply blocks)", "elements/ply_block.py", "update_history"),
     ("  the facing (all calls)", "elements/ply_block.py", "facing"),
+    ("    front's call (faces, choice)", "elements/ply_facing_front.py", "begun"),
+    ("    facing's second call", "elements/ply_facing_whole.py", "finished_facing"),
     ("    whole facing (compiled pair)", "elements/ply_facing_whole.py", "whole_facing"),
     ("    search's candidates", "elements/ply_block.py", "_candidates"),
     ("      full re-searches", "elements/ply_search.py", "_renew"),

@@ -11,6 +11,12 @@ directors, velocities).
 
     NUMBA_NUM_THREADS=1 nice -n 5 python benchmarks/ply_step.py --reference /tmp/main
     NUMBA_NUM_THREADS=1 nice -n 5 python benchmarks/ply_step.py --parts --kinematics mindlin
+    NUMBA_NUM_THREADS=1 nice -n 5 python benchmarks/ply_step.py --kinematics mindlin \
+        --toggle elements.ply_facing_front.CHOSEN --start 1000 --stop 9000
+
+``--toggle`` compares a flag that keeps the bits with itself in one process: False and True by
+turns every ``--every`` steps of the window, each setting's CPU a step (the load's drift, which
+two processes one after the other each meet alone, falls on both settings alike).
 
 Where a step's time goes (``--parts``: each function's CPU summed with a timer round it, so a
 little over the step's own; this tree, one thread, load 3.6-5.9), fibrous [0/90] steps
@@ -27,7 +33,40 @@ bookkeeping. Each state's facing is made once (at the commit) and served from th
 cache to the next step's loads, energy and springs: what a step pays for is the facing
 itself, about twenty compiled calls a pass and their numpy glue, none of them dominant.
 
-Measured (this script, best of 2-3, one thread, nice 5):
+Where it goes since the facing's choice is made in the front's call (``--parts``, one
+thread, load 1.4-1.8, each kernel's own line its compiled call alone), Mindlin [0/90] steps
+3400-5000 (1.091 ms a step so timed) / fibrous [0/90] steps 1700-2500 (1.607 ms): the commit
+0.513 / 0.624 ms, of it the facing 0.324 / 0.378 (the front's call 0.286 / 0.329, its kernel
+0.110 / 0.118; the second call 0.116 / 0.119, its kernel 0.069 / 0.073) and the friction's
+history 0.132 / 0.145 (its kernel 0.039 / 0.048); the ply loads 0.143 / 0.177 (their kernel
+0.049 / 0.050); the fibrous plies 0.150; the tools' forces for the history rows 0.018 /
+0.248; the stable step 0.06. The ply contact's four compiled calls a block take 0.27 / 0.29
+ms of a step, its Python round them 0.39 / 0.51: the allocations of the facing's fresh
+arrays and their copies kept for the state's later calls (about 10 us a block for the
+first call's 21 outputs), the kept-state checks, the masks of the sides, the landing and
+the loads, and the calls' own conversion of 33-58 arguments (about 5 us each, measured
+with an empty kernel of 52 arguments: 4.6 us). No item above about 10 us a block: the
+whole ply glue, were it all gone, is about a third of the Mindlin step, not a half.
+
+Measured (this script, best of 2-4, one thread, nice 5):
+
+* the facing's choice made in the front's call (elements/ply_facing_front.py ``CHOSEN``;
+  98 % of the fibrous run's new facings, all but 4 of 10000 of the Mindlin run's first 5000
+  steps, the rest refreshes and new epochs): ``--toggle`` (every 50 steps, load 4.5-5.9)
+  Mindlin [0/90] steps 1000-9000 1.0992 -> 1.0648 ms a step (0.969), 12000-20000 1.3131 ->
+  1.2956 (0.987), 22000-30000 1.3957 -> 1.3743 (0.985), fibrous [0/90] steps 500-4000
+  1.7344 -> 1.7147 (0.989): 20-34 us a step. Against main 15bf388 in two processes (best of
+  4-6, load 1.7-2.8) Mindlin steps 3400-5000 0.959 / 0.966 against 0.992 / 0.994 ms,
+  fibrous steps 1700-2500 1.485 / 1.517 against 1.485 / 1.513 (within the noise), the states
+  at steps 5000 and 2500 identical to the bit; the whole case (``python -m validation --cases
+  hemisphere-plies --jobs 1`` from each tree) the same 333 numbers of results.json but the
+  times and the same three PNGs byte for byte. Tried, not kept: the next step's ply loads
+  made in the history's pass of the commit and kept for them (one compiled call a block
+  and step less, the same bits at every state of a 1600-step window): on a bent state the
+  pass 46 -> 77 us a block, the loads' call 35 -> 2.6 us served kept (one-off timeit, load
+  1.5), no gain together; Mindlin steps 3400-5000 with both cuts 0.950 against 0.972 ms
+  (0.978), as with the choice's alone (0.967-0.978): the loads' cost is their kernel (25 us
+  a block in the run, ``--parts``), not the Python round it;
 
 * the sides accepted at a commit from the flags its held facing was made with, the held
   facing kept for the new sides (elements/ply_sides.py ``accepted_sides``), and the
@@ -48,6 +87,7 @@ Measured (this script, best of 2-3, one thread, nice 5):
 from __future__ import annotations
 
 import argparse
+import importlib
 import json
 import os
 import subprocess
@@ -69,7 +109,11 @@ ROOT = Path(__file__).resolve().parents[1]
 PARTS = (
     ("femcore.compiled", "CompiledModel", "commit", "commit (the new state's history)"),
     ("elements.ply_block", "PlyContactBlock", "facing", "  the facing, both passes"),
-    ("elements.ply_block", None, "closest_facing", "    closest_facing"),
+    ("elements.ply_facing_front", None, "begun", "    the front's call (faces, lists, choice)"),
+    ("elements.ply_facing_front", None, "_front_chosen", "      its kernel"),
+    ("elements.ply_facing_front", None, "finished_facing", "      the facing's second call"),
+    ("elements.ply_facing_whole", None, "_sides_fade_compiled", "        its kernel"),
+    ("elements.ply_block", None, "closest_facing", "    closest_facing (no choice made before)"),
     ("elements.ply_choice", None, "choose_facing", "      the choice"),
     ("elements.ply_fade_kernels", None, "outline_fade_at", "      the outline's fade"),
     ("elements.ply_edge_kernels", None, "edge_sides", "      the edges' sides"),
@@ -77,9 +121,11 @@ PARTS = (
     ("elements.ply_chosen", None, "chosen", "      the chosen arrays"),
     ("elements.ply_block", "PlyContactBlock", "_candidates", "    the kept lists, faces"),
     ("elements.ply_friction_kernels", None, "updated_history", "  the friction's history"),
+    ("elements.ply_friction_pass", None, "_history_compiled", "    its kernel"),
     ("solvers.explicit", None, "explicit_step", "the step (forces, update)"),
     ("femcore.compiled", "CompiledModel", "internal_force", "  the forces"),
     ("elements.ply_block", "PlyContactBlock", "internal_force", "    the ply loads"),
+    ("elements.ply_load_kernels", None, "_loads", "      their kernel"),
     ("elements.fibrous.block", "FibrousShellBlock", "internal_force", "    the fibrous plies"),
     ("femcore.compiled", "CompiledModel", "tool_forces", "the tools' forces (history rows)"),
     ("solvers.explicit", "CentralDifference", "_step_size", "the stable step"),
@@ -116,10 +162,15 @@ def window(
     kinematics: str = "fibrous",
     parts: bool = False,
     settings: dict | None = None,
+    toggle: str | None = None,
+    every: int = 50,
 ):
     """Run the case's ``kinematics`` [0/90] run to step ``stop``, print the CPU per step (ms)
     of the steps ``start`` .. ``stop`` and save the state there to ``out`` (.npz); with
-    ``parts``, each of ``PARTS``' CPU a step in the window too (timed, so a little slower).
+    ``parts``, each of ``PARTS``' CPU a step in the window too (timed, so a little slower);
+    with ``toggle`` ("module.FLAG", a flag that keeps the bits), the flag set False and True
+    by turns every ``every`` steps of the window, each setting's CPU a step printed (one
+    process, the same states: the load's drift falls on both alike).
     ``settings``: the solver's (validation/studies/hemisphere_plies_run.py ``case_settings``,
     handed over by this tree to a tree of the code before, which may not have it; None: this
     tree's)."""
@@ -140,11 +191,23 @@ def window(
     marks: dict[str, float] = {}
     count = [0]
 
+    flag_module, flag = (None, "") if toggle is None else toggle.rsplit(".", 1)
+    owner = None if flag_module is None else importlib.import_module(flag_module)
+    by_setting = {False: [0.0, 0], True: [0.0, 0]}
+
     def counted(state: State) -> State:
         count[0] += 1
+        now = time.process_time()
         if count[0] == start:
-            marks["start"] = time.process_time()
+            marks["start"] = now
             spent.clear()
+        if owner is not None and start <= count[0] <= stop:
+            if count[0] > start:  # the step that ends here ran with the setting of before
+                setting = bool(getattr(owner, flag))
+                by_setting[setting][0] += now - marks["last"]
+                by_setting[setting][1] += 1
+            setattr(owner, flag, (count[0] - start) // every % 2 == 1)
+            marks["last"] = time.process_time()
         accepted = commit(compiled, state)
         if count[0] == stop:
             marks["stop"] = time.process_time()
@@ -165,6 +228,8 @@ def window(
             solver.solve(compiled)
         except SolverError:
             pass
+    for setting, (cpu, steps) in by_setting.items() if owner is not None else ():
+        print(f"{toggle} {setting}: {cpu / max(steps, 1) * 1e3:.4f} ms a step ({steps} steps)")
     for *_, label in PARTS if parts else ():
         print(f"{label:40s} {spent.get(label, 0.0) / (stop - start) * 1e3:7.3f} ms a step")
     print(f"{(marks['stop'] - marks['start']) / (stop - start) * 1e3:.4f}")
@@ -206,6 +271,8 @@ def main() -> None:
     parser.add_argument("--repeats", type=int, default=3, help="rounds (best CPU)")
     parser.add_argument("--kinematics", default="fibrous", help="fibrous or mindlin plies")
     parser.add_argument("--parts", action="store_true", help="this tree's parts of a step")
+    parser.add_argument("--toggle", help="module.FLAG set False / True by turns in the window")
+    parser.add_argument("--every", type=int, default=50, help="steps between the turns")
     parser.add_argument("--window", nargs=3, help=argparse.SUPPRESS)
     parser.add_argument("--settings", help=argparse.SUPPRESS)  # a --window child's solver
     args = parser.parse_args()
@@ -214,10 +281,12 @@ def main() -> None:
         window(int(args.window[0]), int(args.window[1]), args.window[2], args.kinematics,
                settings=settings)  # fmt: skip
         return
-    if args.parts:
+    if args.parts or args.toggle:
         print(f"load {os.getloadavg()}")
         with tempfile.TemporaryDirectory() as folder:
-            window(args.start, args.stop, str(Path(folder) / "state.npz"), args.kinematics, True)
+            out = str(Path(folder) / "state.npz")
+            window(args.start, args.stop, out, args.kinematics, args.parts, None, args.toggle,
+                   args.every)  # fmt: skip
         print(f"load {os.getloadavg()}")
         return
     trees = {"this": ROOT} | ({"reference": args.reference.resolve()} if args.reference else {})

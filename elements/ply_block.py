@@ -389,7 +389,21 @@ class PlyContactBlock(InteractionBlock):
         self._hessian_used = asked
         # a state not seen before: its faces, ``toward`` and the lists' moves in one compiled
         # call where it serves (elements/ply_facing_front.py; None: the chained calls)
-        begun = ply_facing_front.begun(self, state)
+        begun = ply_facing_front.begun(self, state, choose=not second)
+        if isinstance(begun, Facing):  # the choice made in that call too
+            found = begun
+        else:
+            found = self._found(state, second, begun)
+        for value in vars(found).values():
+            if isinstance(value, np.ndarray):
+                value.setflags(write=False)
+        self._facing_before = kept
+        self._facing_at = (second, state.positions.copy(), state.directors.copy(), found)
+        return found
+
+    def _found(self, state: State, second: bool, begun: tuple | None) -> Facing:
+        """``facing``'s new Facing at ``state`` from ``begun``'s (p, near, y, toward) (None:
+        the chained calls')."""
         p, near, y = self._candidates(state) if begun is None else begun[:3]
         if self.curved:  # the nearest of the candidates' curved patches (elements/ply_curved.py)
             found = ply_curved.curved_facing(self, state, p, y, near)
@@ -410,11 +424,6 @@ class PlyContactBlock(InteractionBlock):
                 outline_tree=self.outline_tree,
                 cuts=self.cuts,
             )
-        for value in vars(found).values():
-            if isinstance(value, np.ndarray):
-                value.setflags(write=False)
-        self._facing_before = kept
-        self._facing_at = (second, state.positions.copy(), state.directors.copy(), found)
         return found
 
     # ------------------------------------------------------------------ loads

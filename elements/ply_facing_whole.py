@@ -14,10 +14,12 @@ hemisphere (benchmarks/ply_chain_parts.py).
 Each stage runs its kernel's own plain build on the calling thread (elements/jit.py
 ``plain_part``; IEEE, no fastmath), so every array of the facing is the same to the last bit as
 the chained calls' (tests/test_ply_facing_whole.py); ``arctan2`` stays numpy's
-(elements/ply_edge_kernels.py says why). ``closest_facing`` takes this path for fewer than
-``SMALL_LOOP`` points without the gap's Hessian; where the outline's nearest edges would be
-measured against more than ``ply_fade.EVERY_PAIR`` pairs, the second call leaves the fade to
-``outline_fade_at`` with the KD-tree's edges, as before.
+(elements/ply_edge_kernels.py says why). The first call's stages also run at the end of the
+front's call of a new state (elements/ply_facing_front.py ``CHOSEN``), which hands its outputs
+(``chosen_outputs``) to the same finish (``finished_facing``). ``closest_facing`` takes this
+path for fewer than ``SMALL_LOOP`` points without the gap's Hessian; where the outline's
+nearest edges would be measured against more than ``ply_fade.EVERY_PAIR`` pairs, the second
+call leaves the fade to ``outline_fade_at`` with the KD-tree's edges, as before.
 """
 
 from __future__ import annotations
@@ -38,7 +40,7 @@ from elements.ply_projection import INSIDE, MARGIN, Facing
 from elements.ply_topology import FaceTopology
 from elements.ply_wedge import KEEP, WedgeCuts
 
-__all__ = ["whole_facing"]
+__all__ = ["chosen_outputs", "finished_facing", "whole_facing"]
 
 # the stages' loops on the calling thread: ply_facing_pass's pass, and the kernels' own plain
 # builds, each loop whole (part 0 of 1, ``plain_part``), so the same bits and one build each
@@ -193,26 +195,62 @@ def whole_facing(
     """
     if topology is None:
         raise ValueError("whole_facing: the lower face's topology is needed, got None")
-    if length is None:
-        length = fade_length(y, outline)
-    count = len(p)
     p = read_only(p)  # read-only as the block keeps them: one build (kernel_inputs.py)
     y = read_only(y)
     face = _face_inputs(topology, outline, cuts, len(y))
-    outline, nodes, fans = face.outline, face.nodes, face.fans
-    has_toward = toward is not None
-    choice, picked = choice_arrays(count), chosen_arrays(count)
-    best, on_edge, closest, on_cut, segment, along = choice
-    triangle, gap, normal, lam, gradients, reach, overshoot, reached, turned = picked
-    width = fans.shape[1]
-    on_q, rise, run = np.empty((count, 3)), np.empty((count, width)), np.empty((count, width))
-    planes = (np.empty((count, 3)), np.empty(count), np.empty((count, 3)))
+    arrays = chosen_outputs(len(p), face.fans.shape[1])
     _choice_compiled(
-        p, y, np.ascontiguousarray(near, dtype=np.int64), outline, MARGIN, INSIDE,
+        p, y, np.ascontiguousarray(near, dtype=np.int64), face.outline, MARGIN, INSIDE,
         face.has_cuts, face.cut, face.lines, face.cut_ends,
-        np.ascontiguousarray(toward if has_toward else np.zeros((1, 3)), dtype=float),
-        has_toward, nodes, fans, *choice, *picked, on_q, rise, run, *planes,
+        np.ascontiguousarray(toward if toward is not None else np.zeros((1, 3)), dtype=float),
+        toward is not None, face.nodes, face.fans, *arrays,
     )  # fmt: skip
+    given = (tolerance, outline, depth, length, topology, outline_tree, cuts)
+    return finished_facing(p, y, *given, arrays)
+
+
+def chosen_outputs(count: int, width: int) -> tuple[np.ndarray, ...]:
+    """The first call's outputs for ``count`` points and fans of ``width`` triangles, in its
+    order (``_choice``): the choice's six (elements/ply_choice.py ``choice_arrays``), the
+    chosen nine (elements/ply_chosen.py ``chosen_arrays``), ``on_q`` (P, 3), ``rise`` and
+    ``run`` (P, f) and the chosen planes' normal (P, 3), gap (P,) and coordinates (P, 3)."""
+    return (
+        *choice_arrays(count),
+        *chosen_arrays(count),
+        np.empty((count, 3)),
+        np.empty((count, width)),
+        np.empty((count, width)),
+        np.empty((count, 3)),
+        np.empty(count),
+        np.empty((count, 3)),
+    )
+
+
+def finished_facing(
+    p: np.ndarray,
+    y: np.ndarray,
+    tolerance: float,
+    outline: np.ndarray,
+    depth: float,
+    length: float | None,
+    topology: FaceTopology,
+    outline_tree,
+    cuts: WedgeCuts | None,
+    arrays: tuple[np.ndarray, ...],
+) -> Facing:
+    """The Facing from the first call's outputs ``arrays`` (``chosen_outputs``, written by
+    ``_choice``, or by the same stages in elements/ply_facing_front.py's pass): numpy's
+    ``arctan2`` of the fans' angles, the second call and, past ``EVERY_PAIR``, the fade by the
+    KD-tree's edges (``whole_facing``'s arguments; ``p`` and ``y`` read-only)."""
+    if length is None:
+        length = fade_length(y, outline)
+    face = _face_inputs(topology, outline, cuts, len(y))
+    outline = face.outline
+    count = len(p)
+    best, on_edge, closest, on_cut, segment, along = arrays[:6]
+    triangle, gap, normal, lam, gradients, reach, overshoot, reached, turned = arrays[6:15]
+    on_q, rise, run = arrays[15:18]
+    planes = arrays[18:21]
     # numpy's arctan2 (elements/ply_edge_kernels.py), read only at the points on an edge
     angles = np.arctan2(rise, run) if on_edge.any() else rise
     flags = tuple(np.empty((7, count), dtype=np.bool_))  # one allocation, C-contiguous rows
@@ -221,11 +259,11 @@ def whole_facing(
     fade_edge = np.full(count, -1)
     made = _sides_fade_compiled(
         p, y, on_edge, closest, on_cut, triangle, gap, normal, lam, reach, reached, turned,
-        overshoot, nodes, fans, face.edges, face.edge_halves, face.other, outline, face.rim,
-        INSIDE, angles, on_q, float(depth), float(tolerance), MARGIN, *flags, planes[0],
-        writable(gradients), planes[1], planes[2], face.segment_rows, face.segment_ends,
-        cuts is not None, face.fade_lines, face.fade_ends, KEEP, float(length),
-        float(length**2), EVERY_PAIR, fade, fade_gradient, fade_edge,
+        overshoot, face.nodes, face.fans, face.edges, face.edge_halves, face.other, outline,
+        face.rim, INSIDE, angles, on_q, float(depth), float(tolerance), MARGIN, *flags,
+        planes[0], writable(gradients), planes[1], planes[2], face.segment_rows,
+        face.segment_ends, cuts is not None, face.fade_lines, face.fade_ends, KEEP,
+        float(length), float(length**2), EVERY_PAIR, fade, fade_gradient, fade_edge,
     )  # fmt: skip
     if not made:  # the outline's nearest edges by the KD-tree (ply_fade.nearest_segments)
         at = np.flatnonzero(near_outline)

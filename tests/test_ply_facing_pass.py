@@ -13,7 +13,14 @@ third of the points) and on the two-ply hemisphere blank's bent states, both pas
 import numpy as np
 import pytest
 
-from elements import ply_block, ply_choice, ply_chosen, ply_kernels, ply_projection
+from elements import (
+    ply_block,
+    ply_choice,
+    ply_chosen,
+    ply_facing_front,
+    ply_kernels,
+    ply_projection,
+)
 from elements.ply_block import PlyContactBlock
 from elements.ply_facing_pass import facing_choice
 from elements.ply_projection import INSIDE, MARGIN
@@ -106,6 +113,9 @@ def test_the_fused_choice_is_the_three_kernels_on_the_bent_two_ply_hemisphere(mo
 
     monkeypatch.setattr(ply_block, "closest_facing", recorded)
     monkeypatch.setattr(ply_projection, "COMPILED", True)
+    # every facing through closest_facing (the choice not made in the front's call,
+    # tests/test_ply_facing_front.py)
+    monkeypatch.setattr(ply_facing_front, "CHOSEN", False)
     for seed, depth in enumerate((0.0, 5.0, 20.0)):
         state = _bent(compiled_model, seed, depth)
         for block in blocks:

@@ -7,7 +7,7 @@ from dataclasses import replace
 import numpy as np
 import pytest
 
-from elements import ply_block
+from elements import ply_block, ply_facing_front
 from validation.studies.ply_overhang_setup import two_plies
 
 
@@ -47,6 +47,15 @@ def facings(monkeypatch):
         return original(*args, **kwargs)
 
     monkeypatch.setattr(ply_block, "closest_facing", counted)
+    # the facings without the Hessian whose choice the front's call made
+    # (elements/ply_facing_front.py ``CHOSEN``), which closest_facing does not see
+    finished = ply_facing_front.finished_facing
+
+    def chosen(*args, **kwargs):
+        made.append(False)
+        return finished(*args, **kwargs)
+
+    monkeypatch.setattr(ply_facing_front, "finished_facing", chosen)
     return made
 
 
