@@ -44,7 +44,6 @@ from dataclasses import dataclass, replace
 from typing import Any
 
 import numpy as np
-import scipy.sparse as sp
 
 from elements import ply_sides
 from elements.ply_block import PlyContactBlock
@@ -236,10 +235,11 @@ class ActiveSetPlyContactBlock(PlyContactBlock):
         """The frozen set's linear model at ``state`` for a prediction of the next set
         (solvers/contact_sets.py): None without a frozen set, else {"points": (r,) the rows of
         the points it may switch (those that may touch, off the fade: w = 1, dw = 0),
-        "gradient": (r, n 5) csr, dg/dq in the generalised unknowns of ``dofs`` in the frames
-        ``frames`` (the slots' layout), "gap": (r,) mm, "stiffness": (r,) N/mm, "active": (r,)
-        bool, "pressure": (r,) N}: a point of the set adds k g dg/dq to the internal forces
-        and k dg/dq dg/dq^T (+ k g d2g/dq2) to the tangent."""
+        "slots": (r, 30) int and "values": (r, 30) the entries of dg/dq in the generalised
+        unknowns of ``dofs`` in the frames ``frames`` (row i's entry k at unknown slots[i, k]
+        of the n 5 slots' layout; entries at one slot add up), "gap": (r,) mm, "stiffness":
+        (r,) N/mm, "active": (r,) bool, "pressure": (r,) N}: a point of the set adds k g dg/dq
+        to the internal forces and k dg/dq dg/dq^T (+ k g d2g/dq2) to the tangent."""
         if not isinstance(history, FrozenSides) or history.active is None:
             return None
         assert history.pressure is not None
@@ -261,14 +261,11 @@ class ActiveSetPlyContactBlock(PlyContactBlock):
         rotating = dofs.has_rotation[nodes]
         columns[:, :, 3] = np.where(rotating, np.sum(turn * v2[nodes], axis=2), 0.0)
         columns[:, :, 4] = np.where(rotating, np.sum(turn * v1[nodes], axis=2), 0.0)
-        slot = nodes[:, :, None] * 5 + np.arange(5)
-        row = np.broadcast_to(np.arange(len(rows))[:, None, None], slot.shape)
-        gradient = sp.csr_matrix(
-            (columns.ravel(), (row.ravel(), slot.ravel())), shape=(len(rows), 5 * self.n_nodes)
-        )
+        slots = nodes[:, :, None] * 5 + np.arange(5)
         return {
             "points": rows,
-            "gradient": gradient,
+            "slots": slots.reshape(len(rows), 30),
+            "values": columns.reshape(len(rows), 30),
             "gap": np.asarray(held.gap[rows], dtype=float),
             "stiffness": self.stiffness[rows],
             "active": np.asarray(history.active[rows]),

@@ -63,6 +63,9 @@ class StaticRun:
         others = [i for i in range(len(model.parts)) if i not in own]
         self._tangent = Tangent(model, own, others, (self.state, own_parts))
         self.linear = LinearSolver()
+        # The updated K_ff of a predicted contact set (solvers/contact_sets.py), factorised by a
+        # linear solver of its own: its patterns would replace the tangents' kept plans.
+        self.updated_linear = LinearSolver()
         self.compression_free = compression_free_ratio(solver.compression_free, model)
         # The steps' projections on the fibre lengths (solvers.newton_fibres) and the level strains
         # (solvers.newton_levels; not with prescribed motion: 3-14-9-29 on the bias extension).
