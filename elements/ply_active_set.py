@@ -45,7 +45,7 @@ from typing import Any
 
 import numpy as np
 
-from elements import ply_sides
+from elements import ply_load_kernels, ply_projection, ply_sides
 from elements.ply_block import PlyContactBlock
 from elements.ply_fade import point_fade
 from elements.ply_projection import Facing, penalty_law
@@ -186,6 +186,9 @@ class ActiveSetPlyContactBlock(PlyContactBlock):
         if not isinstance(history, FrozenSides):
             return super().internal_force(state, history)
         facing = self._held(state, history)
+        if ply_projection.COMPILED:  # the same bits (elements/ply_load_kernels.py)
+            law = getattr(facing, "law", "ramp")
+            return ply_load_kernels.ply_loads(self, state, facing, law=law)
         force, moment = np.zeros((self.n_nodes, 3)), np.zeros((self.n_nodes, 3))
         nodes, forces, moments, on, _, law = self._pair_loads(state, facing)
         ends = self._end_loads(state, facing, on, law)

@@ -139,6 +139,36 @@ def test_the_frozen_sets_tangent_is_the_derivative_of_its_loads():
     assert (force[stack.ply_nodes[1], 2] > 0).any() and (force[stack.ply_nodes[1], 2] < 0).any()
 
 
+@pytest.mark.parametrize("jitter", [1e-5, 3e-4])
+def test_the_compiled_loads_of_the_frozen_and_thawed_laws_are_numpys_to_the_bit(
+    monkeypatch, jitter
+):
+    """The bilateral law of a frozen set (points pressed in and pulled apart, gaps -2 delta
+    to +delta, directors tilted, nodes jittered) and the thawed plain penalty, summed by the
+    compiled pass (elements/ply_load_kernels.py, ``law``) and by the numpy reference
+    (``ply_projection.COMPILED = False``: ``_pair_loads``, ``_end_loads`` and
+    ``np.bincount``): the same forces and moments to the bit."""
+    from elements import ply_projection
+
+    stack, _, active = _pair("active_set")
+    delta = active.smoothing
+    state = _pressed(stack, lambda x: delta * (4.0 * x / 20.0 - 1.0), tilt=0.02, jitter=jitter)
+    sides = active.initial_history()
+    held, reachable = active._reachable(state, sides)
+    chosen = reachable & (np.random.default_rng(5).random(len(reachable)) < 0.6)
+    gap = np.asarray(held.gap)
+    assert (gap[chosen] > 0).any() and (gap[chosen] < 0).any()
+    frozen = FrozenSides(sides.sides, sides.faces, sides.corners, chosen, np.zeros(len(chosen)))
+    for history in (frozen, active.thaw(frozen)):
+        compiled = active.internal_force(state, history)
+        monkeypatch.setattr(ply_projection, "COMPILED", False)
+        reference = active.internal_force(state, history)
+        monkeypatch.setattr(ply_projection, "COMPILED", True)
+        assert np.abs(reference[0]).max() > 0.0
+        for got, expected in zip(compiled, reference):
+            assert np.array_equal(got, expected)
+
+
 def test_the_set_follows_the_primal_dual_rule():
     """The set's rule (elements/ply_active_set.py): a point joins where it penetrates; a
     pressed point stays while its gap has opened by less than it was pressed in, and leaves
