@@ -27,7 +27,7 @@ increments" below).
         [--resolution coarse|default] [--stall 25] [--first-turn 0.1 [--no-stall]]
         [--update-turn 0.03 [--no-stall]] [--curved [--increments 8]] [--rounds 2]
         [--detail [--parts]] [--tangent-check [--check-load 1.8] [--every 1]]
-        [--active-set [--plies 20]]
+        [--active-set [--plies 20] [--unopened]]
 
 bai: plies-bai-5.1's stack (validation/cases/plies_bai_5_1.py); heavy: plies-heavy-cantilever's;
 deck and sag: plies-deck-of-cards' deck at its largest N on 20 cells and its heavy stack of the
@@ -961,7 +961,9 @@ def report(result) -> None:
     )
 
 
-def active_set(name: str, resolution: str, plies: int | None, rounds: int) -> None:
+def active_set(
+    name: str, resolution: str, plies: int | None, rounds: int, opening: str | None = "ramp"
+) -> None:
     """The case's solver on its plies with the ply contact's normal law under Static the
     ramp and the active set (``PlyContact(static_law=...)``, elements/ply_active_set.py),
     alternately ``rounds`` times in this process: iterations per increment, tangents, CPU,
@@ -969,6 +971,9 @@ def active_set(name: str, resolution: str, plies: int | None, rounds: int) -> No
     thickness and mid-point, mm; ``PlyStack.material_lines``)."""
     if name != "bai":
         raise ValueError(f"--active-set: case {name!r}: expected bai")
+    from elements.ply_active_set import ActiveSetPlyContactBlock
+
+    ActiveSetPlyContactBlock.opening_law = opening  # type: ignore[assignment]
     results: dict[str, Any] = {}
     for law in ("ramp", "active_set") * rounds:
         RECORD.update(attempts=[])
@@ -980,6 +985,7 @@ def active_set(name: str, resolution: str, plies: int | None, rounds: int) -> No
         print(
             f"--- {name} {resolution}, {RECORD['stack'].count} plies, static_law={law}: "
             f"{cpu:.1f} s CPU, converged {result.converged}"
+            + (f", opening_law={opening}" if law == "active_set" else "")
         )
         print(f"iterations per increment {info['iterations_per_increment']}")
         print(
@@ -1069,10 +1075,17 @@ def main() -> None:
     parser.add_argument(
         "--plies", type=int, default=None, help="with --active-set: the plies (the case's)"
     )
+    parser.add_argument(
+        "--unopened",
+        action="store_true",
+        help="with --active-set: the active set in the first increment of the displacement "
+        "phase too (ActiveSetPlyContactBlock.opening_law None)",
+    )
     args = parser.parse_args()
     print(f"load before (1, 5, 15 min): {np.round(os.getloadavg(), 2).tolist()}")
     if args.active_set:
-        active_set(args.case, args.resolution, args.plies, args.rounds)
+        opening = None if args.unopened else "ramp"
+        active_set(args.case, args.resolution, args.plies, args.rounds, opening)
         print(f"load (1, 5, 15 min): {np.round(os.getloadavg(), 2).tolist()}")
         return
     if args.deck_start:

@@ -101,6 +101,12 @@ class ActiveSetPlyContactBlock(PlyContactBlock):
     #: (solvers/newton.py ``newton``): that law is the plain penalty, which stalls on plies
     #: laid on each other (docs/theory.md §9.3a); the increment is cut at once.
     unilateral_fallback = False
+    #: The law of the first increment of each phase of Static's load path (solvers/newton.py
+    #: ``opens_on_ramp``): "ramp", the explicit solver's, the history ``released``; None, the
+    #: active set there too. plies-bai-5.1's default stack (benchmarks/static_plies_newton.py
+    #: ``--active-set``): there the set changes by hundreds of points an iterate and the
+    #: predicted set stalls (64 iterations and 125 cut in the first displacement increment).
+    opening_law: str | None = "ramp"
 
     def __init__(self, *args: Any, **kwargs: Any):
         super().__init__(*args, **kwargs)
@@ -286,6 +292,13 @@ class ActiveSetPlyContactBlock(PlyContactBlock):
         members.setflags(write=False)
         multipliers.setflags(write=False)
         return FrozenSides(history.sides, history.faces, history.corners, members, multipliers)
+
+    def released(self, history: Any) -> Any:
+        """``history`` without a set or the plain penalty's marker: the sides alone, under
+        which this block's law is the ramp (``opening_law``)."""
+        if isinstance(history, FrozenSides):
+            return ply_sides.PlySides(history.sides, history.faces, history.corners)
+        return history
 
     def thaw(self, history: Any) -> Any:
         """The history with no set: the unilateral plain penalty (module docstring)."""

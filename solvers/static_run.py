@@ -58,6 +58,9 @@ class StaticRun:
         self.started = time.perf_counter()
         self.state = model.initial_state()
         self.reached = 0.0
+        # Whether the load path is in the first increment of a phase (solvers.load_path;
+        # solvers/newton.py ``opens_on_ramp``).
+        self.opening = False
         own_parts = model.own_tangents(self.state) if solver.tangent == "element" else {}
         own = list(own_parts)
         others = [i for i in range(len(model.parts)) if i not in own]

@@ -289,3 +289,43 @@ def test_the_predicted_set_converges_the_sag_in_a_few_iterations():
     assert counts["ramp", True] > 10 and counts["active_set", False] > 10
     delta = 1e-3 * 0.5
     assert np.abs(tips["active_set", True] - tips["ramp", True]).max() <= delta / 2
+
+
+def _pushed_model(static_law: str):
+    """Two plies of SAG (10 x 1 cells) clamped at the left end, their right end pushed down
+    by 5 mm and in by 1 mm (an imposed motion), under gravity."""
+    mid = Mesh.rectangle(100.0, 5.0, nx=10, ny=1)
+    stack = PlyStack(mid, SAG, 2, static_law=static_law)
+    model = stack.model()
+    model.fix(stack.nodes("left"))
+    model.displace(stack.nodes("right"), ux=-1.0, uz=-5.0)
+    model.gravity((0.0, 0.0, -9810.0))
+    return model
+
+
+def test_a_phase_of_several_increments_opens_on_the_ramp(monkeypatch):
+    """In Static's load path the first increment of a phase of several is taken with the
+    ramped penalty, no set frozen (``opening_law = "ramp"``, solvers/newton.py
+    ``opens_on_ramp``): two plies whose end is pushed, and the 4-ply sag, each in 3
+    increments, take the ramp's own iterations there (the same count as with
+    static_law="ramp"), then the predicted sets', and end at the equilibrium of the active
+    set without the opening within 1e-9 mm (the round-off of a state reached by another
+    path, measured 3.3e-14 and 6.7e-13; the two laws' own equilibria differ by 2.6e-4 and
+    7.4e-7 mm). On these small stacks the opening costs iterations (measured 64-7-7 and
+    28-7-4, the ramp 64-8-8 and 28-15-11, the active set throughout 32-7-7 and 9-8-4): the
+    rule is for plies-bai-5.1's stacks, docs/theory.md §9.3a."""
+    for model in (_pushed_model, lambda law: _sag_model(4, law)):
+        runs = {}
+        for name, law, opening in (
+            ("ramp", "ramp", "ramp"),
+            ("opened", "active_set", "ramp"),
+            ("unopened", "active_set", None),
+        ):
+            monkeypatch.setattr(ActiveSetPlyContactBlock, "opening_law", opening)
+            runs[name] = Static(increments=3, progress=False).solve(model(law))
+            assert runs[name].converged
+        counts = {name: run.info["iterations_per_increment"] for name, run in runs.items()}
+        assert counts["opened"][0] == counts["ramp"][0] != counts["unopened"][0]
+        opened, unopened = runs["opened"].positions, runs["unopened"].positions
+        assert np.abs(opened - unopened).max() <= 1e-9
+        assert np.abs(runs["ramp"].positions - unopened).max() > 1e-7
