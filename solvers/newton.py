@@ -222,7 +222,10 @@ def opens_on_ramp(model: CompiledModel) -> bool:
     """Whether ``model`` has a set-keeping interaction whose law under Static opens each phase
     of the load path with its explicit law (``opening_law == "ramp"``: the ply contact's
     active set, elements/ply_active_set.py)."""
-    return any(getattr(part, "opening_law", None) == "ramp" for part in model.interactions)
+    return any(
+        getattr(part, "opening_law", None) == "ramp" and hasattr(part, "released")
+        for part in model.interactions
+    )
 
 
 def on_ramp(model: CompiledModel, history: tuple) -> tuple:
@@ -231,8 +234,9 @@ def on_ramp(model: CompiledModel, history: tuple) -> tuple:
     first = len(model.parts) - len(model.interactions)
     entries = list(history)
     for i, part in enumerate(model.interactions):
-        if getattr(part, "opening_law", None) == "ramp":
-            entries[first + i] = part.released(entries[first + i])
+        released = getattr(part, "released", None)
+        if released is not None and getattr(part, "opening_law", None) == "ramp":
+            entries[first + i] = released(entries[first + i])
     return tuple(entries)
 
 
