@@ -534,6 +534,17 @@ step's linear model, solvers/contact_sets.py; the two alternately in one process
   the prediction 2010 tangents (65-34-22-4-4-3-3-3-3-3 and 275-66-92-118-42-96-50-26-57-74,
   1040 and 959 cut, 21 cuts), 324 s; with it 527 tangents (66-12-4-4-4-3-3-3-3-3 and
   84-17-16-14-13-10-8-10-12-16, 305 and 225 cut, 9 cuts), 239 s (beside other jobs, load 2-3).
+* The prediction made cheaper and each phase opened on the ramp (the columns solved
+  together, the rows dense by point, the bilateral loads compiled; ``ActiveSetPlyContactBlock.
+  opening_law = "ramp"``; docs/theory.md §9.3a, "The predicted set made cheaper"), the
+  default (load 3.7-4.6): ramp 403 tangents, 11.2 and 10.1 s; active set 327 tangents
+  (24-13-4-4-4-3-3-3-3-3 and 117-17-14-13-8-8-9-8-8-9, 275 and 50 cut), 10.9 and 10.7 s; the
+  same equilibrium as without the opening (nodes within 5e-14 mm), material lines within
+  0.030 deg, 7.7e-3 mm and 4.8e-3 mm of the ramp's. The displacement phase alone opened on
+  the ramp: 350 tangents, 13.3-13.6 s; neither opened but the prediction cheaper: 345, 15.9 s
+  (one-off). Coarse (load 4.4-4.5, 3 rounds): ramp 271 tangents, 1.2-1.4 s (2.6 the first,
+  compiling); active set 264 (21-5-4-4-4-3-3-3-3-3 and 86-15-14-13-12-8-8-9-8-8, 234 and 25
+  cut), 1.6-1.8 s. ``--unopened``: the active set without the opening.
 * The plain penalty without a set (``elements.ply_contact.SMOOTHING = 0``, the ramp's solve
   otherwise), bai coarse: 359 tangents (47-4-4-4-4-3-3-3-3-3 and 91-25-18-13-12-12-9-12-12-19,
   5 cuts), 2.5 s.
