@@ -44,9 +44,8 @@ from dataclasses import dataclass, replace
 from typing import Any
 
 import numpy as np
-import scipy.sparse as sp
 
-from elements import ply_sides
+from elements import ply_load_kernels, ply_projection, ply_sides
 from elements.ply_block import PlyContactBlock
 from elements.ply_fade import point_fade
 from elements.ply_projection import Facing, penalty_law
@@ -102,6 +101,12 @@ class ActiveSetPlyContactBlock(PlyContactBlock):
     #: (solvers/newton.py ``newton``): that law is the plain penalty, which stalls on plies
     #: laid on each other (docs/theory.md §9.3a); the increment is cut at once.
     unilateral_fallback = False
+    #: The law of the first increment of each phase of Static's load path (solvers/newton.py
+    #: ``opens_on_ramp``): "ramp", the explicit solver's, the history ``released``; None, the
+    #: active set there too. plies-bai-5.1's default stack (benchmarks/static_plies_newton.py
+    #: ``--active-set``): there the set changes by hundreds of points an iterate and the
+    #: predicted set stalls (64 iterations and 125 cut in the first displacement increment).
+    opening_law: str | None = "ramp"
 
     def __init__(self, *args: Any, **kwargs: Any):
         super().__init__(*args, **kwargs)
@@ -187,6 +192,9 @@ class ActiveSetPlyContactBlock(PlyContactBlock):
         if not isinstance(history, FrozenSides):
             return super().internal_force(state, history)
         facing = self._held(state, history)
+        if ply_projection.COMPILED:  # the same bits (elements/ply_load_kernels.py)
+            law = getattr(facing, "law", "ramp")
+            return ply_load_kernels.ply_loads(self, state, facing, law=law)
         force, moment = np.zeros((self.n_nodes, 3)), np.zeros((self.n_nodes, 3))
         nodes, forces, moments, on, _, law = self._pair_loads(state, facing)
         ends = self._end_loads(state, facing, on, law)
@@ -236,10 +244,11 @@ class ActiveSetPlyContactBlock(PlyContactBlock):
         """The frozen set's linear model at ``state`` for a prediction of the next set
         (solvers/contact_sets.py): None without a frozen set, else {"points": (r,) the rows of
         the points it may switch (those that may touch, off the fade: w = 1, dw = 0),
-        "gradient": (r, n 5) csr, dg/dq in the generalised unknowns of ``dofs`` in the frames
-        ``frames`` (the slots' layout), "gap": (r,) mm, "stiffness": (r,) N/mm, "active": (r,)
-        bool, "pressure": (r,) N}: a point of the set adds k g dg/dq to the internal forces
-        and k dg/dq dg/dq^T (+ k g d2g/dq2) to the tangent."""
+        "slots": (r, 30) int and "values": (r, 30) the entries of dg/dq in the generalised
+        unknowns of ``dofs`` in the frames ``frames`` (row i's entry k at unknown slots[i, k]
+        of the n 5 slots' layout; entries at one slot add up), "gap": (r,) mm, "stiffness":
+        (r,) N/mm, "active": (r,) bool, "pressure": (r,) N}: a point of the set adds k g dg/dq
+        to the internal forces and k dg/dq dg/dq^T (+ k g d2g/dq2) to the tangent."""
         if not isinstance(history, FrozenSides) or history.active is None:
             return None
         assert history.pressure is not None
@@ -261,14 +270,11 @@ class ActiveSetPlyContactBlock(PlyContactBlock):
         rotating = dofs.has_rotation[nodes]
         columns[:, :, 3] = np.where(rotating, np.sum(turn * v2[nodes], axis=2), 0.0)
         columns[:, :, 4] = np.where(rotating, np.sum(turn * v1[nodes], axis=2), 0.0)
-        slot = nodes[:, :, None] * 5 + np.arange(5)
-        row = np.broadcast_to(np.arange(len(rows))[:, None, None], slot.shape)
-        gradient = sp.csr_matrix(
-            (columns.ravel(), (row.ravel(), slot.ravel())), shape=(len(rows), 5 * self.n_nodes)
-        )
+        slots = nodes[:, :, None] * 5 + np.arange(5)
         return {
             "points": rows,
-            "gradient": gradient,
+            "slots": slots.reshape(len(rows), 30),
+            "values": columns.reshape(len(rows), 30),
             "gap": np.asarray(held.gap[rows], dtype=float),
             "stiffness": self.stiffness[rows],
             "active": np.asarray(history.active[rows]),
@@ -286,6 +292,13 @@ class ActiveSetPlyContactBlock(PlyContactBlock):
         members.setflags(write=False)
         multipliers.setflags(write=False)
         return FrozenSides(history.sides, history.faces, history.corners, members, multipliers)
+
+    def released(self, history: Any) -> Any:
+        """``history`` without a set or the plain penalty's marker: the sides alone, under
+        which this block's law is the ramp (``opening_law``)."""
+        if isinstance(history, FrozenSides):
+            return ply_sides.PlySides(history.sides, history.faces, history.corners)
+        return history
 
     def thaw(self, history: Any) -> Any:
         """The history with no set: the unilateral plain penalty (module docstring)."""

@@ -41,10 +41,12 @@ __all__ = ["ply_loads"]
 
 
 @lanes
-def _law(gap, cube, stiffness, smoothing, smoothing_squared):
+def _law(gap, cube, stiffness, smoothing, smoothing_squared, bilateral):
     """``ply_projection.penalty_law``'s energy (N mm) and dW/dg (N) of one point, in its
-    operations' order; ``cube`` numpy's min(gap, 0)^3."""
-    g = gap if (gap < 0.0 or gap != gap) else 0.0
+    operations' order; ``cube`` numpy's min(gap, 0)^3; with ``bilateral`` (and smoothing 0)
+    the frozen active set's k/2 g^2 at either sign of g (elements/ply_active_set.py
+    ``bilateral_law``)."""
+    g = gap if (bilateral or gap < 0.0 or gap != gap) else 0.0
     if smoothing == 0.0:
         return 0.5 * stiffness * (g * g), stiffness * g
     if g <= -smoothing:
@@ -152,6 +154,7 @@ def _loads(
     anchor_offset,
     gradients,
     turn,
+    bilateral,
     force,
     moment,
 ):
@@ -167,7 +170,8 @@ def _loads(
     the stuck points facing a plane and gradients (P, 3, 3) the facing's for their couple
     (``ply_friction.stick_couple``), turn (P, 4, 3) the couple on (p, y_1, y_2, y_3) of the
     stuck points facing an edge or a vertex (``ply_friction.edge_couples``, 0 elsewhere;
-    (0, 4, 3) where there are none)."""
+    (0, 4, 3) where there are none); bilateral: the frozen set's law k/2 g^2 at either sign of
+    g (``_law``; with smoothing 0)."""
     n = force.shape[0]
     turned = turn.shape[0] > 0  # no rows: no stuck point faces an edge or a vertex (adds 0)
     ends_force = np.zeros((n, 3))
@@ -177,7 +181,7 @@ def _loads(
     for i in range(on.shape[0]):
         r = on[i]
         t = triangle[r]
-        energy, slope = _law(gap[r], cube[i], stiffness[r], smoothing, smoothing_squared)
+        energy, slope = _law(gap[r], cube[i], stiffness[r], smoothing, smoothing_squared, bilateral)
         _add_ends(
             ends_force, ends_moment, r, t, energy, fade_gradient, fade_edge, outline_nodes,
             outline_offsets, cells, corner_offset, lever, direction,
@@ -269,7 +273,9 @@ def _contiguous(array, dtype=float):
     return np.ascontiguousarray(array, dtype=dtype)
 
 
-def ply_loads(block, state, facing, sliding=None, anchor=None) -> tuple[np.ndarray, np.ndarray]:
+def ply_loads(
+    block, state, facing, sliding=None, anchor=None, law: str = "ramp"
+) -> tuple[np.ndarray, np.ndarray]:
     """The flat ply contact's nodal forces and moments at ``state``, compiled: the same bits
     as ``PlyContactBlock.internal_force``'s numpy reference (module docstring).
 
@@ -286,6 +292,11 @@ def ply_loads(block, state, facing, sliding=None, anchor=None) -> tuple[np.ndarr
         friction.
     anchor : (P, 3) float, optional
         The friction history's anchors' barycentric coordinates (with ``sliding``).
+    law : str
+        The touching points' normal law: "ramp", the block's smoothed penalty; "plain", k/2
+        min(g, 0)^2; "bilateral", k/2 g^2 (the laws of elements/ply_active_set.py
+        ``ReachFacing``, whose numpy reference is ``ActiveSetPlyContactBlock``'s
+        ``_pair_loads``).
 
     Returns
     -------
@@ -295,7 +306,7 @@ def ply_loads(block, state, facing, sliding=None, anchor=None) -> tuple[np.ndarr
         N mm, on their directors (dW/dpsi).
     """
     on = np.flatnonzero(facing.touching)
-    smoothing = block.smoothing
+    smoothing = block.smoothing if law == "ramp" else 0.0
     # as ply_projection.penalty_law computes them (numpy's vectorised power), at the points
     # the ramp's energy reads them (ply_penalty.ramp_cubes)
     cube = ply_penalty.ramp_cubes(np.minimum(facing.gap[on], 0.0), smoothing)
@@ -360,6 +371,7 @@ def ply_loads(block, state, facing, sliding=None, anchor=None) -> tuple[np.ndarr
         _contiguous(offset),
         _contiguous(facing.gradients),
         _contiguous(turn),
+        law == "bilateral",
         force,
         moment,
     )

@@ -49,6 +49,11 @@ PANEL = 8
 # 10-cell fibrous one (123) 0.18 against 0.21; from 200 on the panels are as fast or faster
 # (204: 8.8 against 9.0, 287: 3.2 against 3.7, 584: 40 against 54). The same bits either way.
 PANEL_FROM = 200
+# Columns from which ``BandLDLT.solve_columns`` solves them in one pass: below, its loop over
+# the columns costs more than it saves (plies-bai-5.1's pressed default stack, 3528 unknowns,
+# band 130: 1, 2, 3, 4, 8 columns 1.36, 1.53, 1.67, 1.44, 1.62 ms together against 0.53,
+# 0.99, 1.49, 1.95, 4.21 one by one; benchmarks/band_columns.py).
+COLUMNS_TOGETHER = 4
 
 
 def _factorise_by_column(band: np.ndarray, reaches: np.ndarray) -> int:
@@ -179,6 +184,38 @@ def _solve(band: np.ndarray, reaches: np.ndarray, rhs: np.ndarray) -> np.ndarray
     return x
 
 
+def _solve_columns(band: np.ndarray, reaches: np.ndarray, rhs: np.ndarray) -> np.ndarray:
+    """X (n, m) with L D L^T X = rhs (n, m), the factors as ``_solve``'s: each column the same
+    operations in the same order as ``_solve`` on it alone (the same bits), the band read once
+    for all the columns instead of once a column (solvers/contact_sets.py solves the switched
+    points' columns together; benchmarks/band_columns.py)."""
+    n = band.shape[0]
+    m = rhs.shape[1]
+    x = rhs.copy()
+    for j in range(n):  # L Y = rhs
+        reach = reaches[j]
+        for r in range(1, reach + 1):
+            weight = band[j, r]
+            for c in range(m):
+                x[j + r, c] -= weight * x[j, c]
+    for j in range(n):
+        pivot = band[j, 0]
+        for c in range(m):
+            x[j, c] /= pivot
+    total = np.empty(m)
+    for j in range(n - 1, -1, -1):  # L^T X = Y / D
+        reach = reaches[j]
+        for c in range(m):
+            total[c] = x[j, c]
+        for r in range(1, reach + 1):
+            weight = band[j, r]
+            for c in range(m):
+                total[c] -= weight * x[j + r, c]
+        for c in range(m):
+            x[j, c] = total[c]
+    return x
+
+
 def _closure(indptr: np.ndarray, indices: np.ndarray, n: int) -> tuple[np.ndarray, np.ndarray]:
     """The CSR pattern (indptr, indices) of U + U^T for an upper triangle U in CSC with sorted
     indices (every row's columns come out sorted and once: row r takes column r's rows, then
@@ -303,6 +340,7 @@ if kernel_cache.AVAILABLE:
     # and Newton's path with them: the tip-loaded cantilever of tests/test_static.py took 7
     # iterations in an increment on a machine with 512-bit vectors, 6 with the solve as written.
     _solve = kernel_cache.njit(_solve)
+    _solve_columns = kernel_cache.njit(_solve_columns)
     AVAILABLE = True
 else:  # pragma: no cover - numba is a dependency
     AVAILABLE = False
@@ -446,6 +484,20 @@ class BandLDLT:
         perm = self.plan.perm
         y = _solve(
             self.band, self.plan.reaches, np.ascontiguousarray(np.ravel(rhs)[perm], dtype=float)
+        )
+        x = np.empty_like(y)
+        x[perm] = y
+        return x
+
+    def solve_columns(self, rhs: np.ndarray) -> np.ndarray:
+        """X (n, m) with K X = rhs (n, m): ``solve`` on each column, to the bit, in one
+        compiled pass (``_solve_columns``) from COLUMNS_TOGETHER columns on, a solve a column
+        below."""
+        if rhs.shape[1] < COLUMNS_TOGETHER:
+            return np.column_stack([self.solve(rhs[:, j]) for j in range(rhs.shape[1])])
+        perm = self.plan.perm
+        y = _solve_columns(
+            self.band, self.plan.reaches, np.ascontiguousarray(rhs[perm], dtype=float)
         )
         x = np.empty_like(y)
         x[perm] = y

@@ -16,6 +16,14 @@ formula (Hager, SIAM Review 31 (1989) 221), m solves for m switched points, unti
 keeps the set (at most MAX_PASSES times): a primal-dual active set on the iteration's linear
 complementarity problem, at the cost of back-substitutions, not of tangents or
 factorisations.
+
+How, cheaply. The new switched points' columns G_i^T are solved together, one pass of the
+band's factors for all of them (solvers.band ``BandLDLT.solve_columns``, without the
+accuracy check of every column: ``Factorisation.solve_columns``), and the rows are held
+dense by point (``SetRows``: 30 entries a point), so that G dq, G_S K^-1 G_S^T and the
+updates are gathers and scatters, not sparse products: on plies-bai-5.1's default stack the
+prediction's solves fell from ~13.7 s (7806 single solves) to ~3 s (some 800 passes for
+~12000 columns), benchmarks/band_columns.py and docs/theory.md §9.3a.
 """
 
 from __future__ import annotations
@@ -31,7 +39,7 @@ from femcore.state import State
 if TYPE_CHECKING:
     from solvers.static import StaticRun
 
-__all__ = ["MAX_PASSES", "MAX_SWITCHED", "REFACTOR_AT", "PREDICTED", "predicted_sets"]
+__all__ = ["MAX_PASSES", "MAX_SWITCHED", "PREDICTED", "REFACTOR_AT", "SetRows", "predicted_sets"]
 
 #: The most passes of the rule on one step's linear model.
 MAX_PASSES = 20
@@ -40,9 +48,12 @@ MAX_PASSES = 20
 #: (benchmarks/static_plies_newton.py ``--active-set``): 64, 200 and 1000 (REFACTOR_AT 16,
 #: 48, 16) gave 405, 345 and 322 tangents in 19.6, 22.7 and 61.9 s.
 MAX_SWITCHED = 200
-#: Past this many new solves in a pass, the updated K_ff is factorised instead (a band
-#: factorisation of the plies costs some 15 solves, but a new pattern its analysis too).
-REFACTOR_AT = 48
+#: Past this many new solves in a pass, the updated K_ff is factorised instead (by the run's
+#: ``updated_linear``). With the columns solved together (0.12-0.14 ms a column against a
+#: band factorisation's ~5 ms and its assembly and plan) this no longer pays on the plies:
+#: plies-bai-5.1 default 48, 100 and 200 (none: MAX_SWITCHED) 17.5, 16.4 and 15.9 s, the
+#: same iterations (one process, one thread, load 4.1-4.6).
+REFACTOR_AT = 200
 #: Whether newton predicts the sets (benchmarks/static_plies_newton.py compares).
 PREDICTED = True
 
@@ -76,24 +87,20 @@ def predicted_sets(
         return None
     from elements import ply_active_set
 
-    gradient = sp.vstack([found["gradient"] for _, _, found in pieces]).tocsr()
-    gap = np.concatenate([found["gap"] for _, _, found in pieces])
+    rows = SetRows.of(pieces, dofs, left)
     k = np.concatenate([found["stiffness"] for _, _, found in pieces])
     start = np.concatenate([found["active"] for _, _, found in pieces])
     pressure = np.concatenate([found["pressure"] for _, _, found in pieces])
-    free, moved = dofs.free_slots, dofs.prescribed_slots
-    g_free = gradient[:, free]
-    # the gaps with the prescribed part of the step
-    imposed = gap + gradient[:, moved] @ left.ravel()[moved] if moved.size else gap.copy()
+    imposed = rows.imposed
     pull = pressure if ply_active_set.HYSTERESIS else 0.0
     active, step = start.copy(), delta_free
     # the set the factors hold, their step K^-1 (r_f - K_fp dq_p) and K^-1 G_i^T of the
-    # points switched from it so far
+    # points switched from it so far (column ``column_of[i]`` of ``solves``)
     held, held_step = start.copy(), delta_free
-    solves: dict[int, np.ndarray] = {}
+    solves = np.empty((rows.free, 0))
+    column_of = np.full(len(k), -1)
     for _ in range(MAX_PASSES):
-        linear = imposed + g_free @ step
-        chosen = pull - k * linear > 0.0
+        chosen = pull - k * rows.linear(step) > 0.0
         if np.array_equal(chosen, active):
             break
         active = chosen
@@ -105,50 +112,138 @@ def predicted_sets(
             return None
         signs = np.where(active[switched], 1.0, -1.0)
         weight = signs * k[switched]
-        rows = g_free[switched]
-        new = [int(i) for i in switched if int(i) not in solves]
+        new = switched[column_of[switched] < 0]
         if len(new) > REFACTOR_AT:
-            # more solves than a factorisation costs: the updated K_ff factorised
-            matrix = (factor.matrix + rows.T @ sp.diags(weight) @ rows).tocsc()
-            right = factor.matrix @ held_step - rows.T @ (weight * imposed[switched])
-            factor = run.factorise(matrix)
+            # more solves than a factorisation costs: the updated K_ff factorised (by a
+            # linear solver of its own, so that the tangents' kept plans stay theirs)
+            matrix = (factor.matrix + rows.update(switched, weight)).tocsc()
+            right = factor.matrix @ held_step - rows.transposed(
+                switched, weight * imposed[switched]
+            )
+            factor = run.updated_linear.factorise(matrix)
             solution = factor.solve(right)
             if solution is None:
                 return None
-            held, held_step, step, solves = active.copy(), solution, solution, {}
+            held, held_step, step = active.copy(), solution, solution
+            solves, column_of = np.empty((rows.free, 0)), np.full(len(k), -1)
             run.info["predicted_factorisations"] = run.info.get("predicted_factorisations", 0) + 1
             continue
-        if new:
-            made = factor.solve(g_free[new].T.toarray())
+        if len(new):
+            made = factor.solve_columns(rows.columns(new))
             if made is None:
                 return None
-            made = made.reshape(len(free), -1)
-            solves.update({i: made[:, j] for j, i in enumerate(new)})
-        solved = np.column_stack([solves[int(i)] for i in switched])
+            column_of[new] = solves.shape[1] + np.arange(len(new))
+            solves = np.hstack([solves, made.reshape(rows.free, -1)])
+        solved = solves[:, column_of[switched]]  # (f, m)
         # K^-1 (rhs - sum s k g_i G_i) = held_step - solved (s k g)
         base = held_step - solved @ (weight * imposed[switched])
-        columns = rows.T.toarray()  # (f, m)
-        capacity = np.diag(1.0 / weight) + columns.T @ solved
+        capacity = np.diag(1.0 / weight) + rows.times(switched, solved)
         try:
-            step = base - solved @ np.linalg.solve(capacity, columns.T @ base)
+            step = base - solved @ np.linalg.solve(capacity, rows.times(switched, base))
         except np.linalg.LinAlgError:
             return None
     if np.array_equal(active, start):
         return None
-    linear = imposed + g_free @ step
+    linear = rows.linear(step)
     # a member kept keeps its multiplier; one that joins takes -k g of the step's end
     pressure = np.where(active, np.where(start, pressure, -k * linear), 0.0)
     offset = 0
     for index, part, found in pieces:
         count = len(found["points"])
-        rows = slice(offset, offset + count)
+        kept = slice(offset, offset + count)
         history[index] = part.with_set(
-            history[index], found["points"], active[rows], pressure[rows]
+            history[index], found["points"], active[kept], pressure[kept]
         )
         offset += count
     run.info["predicted_sets"] = run.info.get("predicted_sets", 0) + 1
     # the residual under the new sets: each switched point's force k g G_i (w = 1) off or on
     switched = np.flatnonzero(active != start)
     signs = np.where(active[switched], 1.0, -1.0)
-    change = gradient[switched].T @ (signs * k[switched] * gap[switched])
+    change = rows.spread(switched, signs * k[switched] * rows.gap[switched])
     return replace(state, history=tuple(history)), step, change
+
+
+class SetRows:
+    """The rows G_i = dg_i/dq of the points a prediction may switch, dense by point: each
+    point's entries (at most 30: six nodes, five unknowns each) and their places among the
+    free unknowns, so that the products of the prediction (G dq, G^T x, G X, the columns
+    G_i^T and k G_i^T G_i) are gathers and scatters of (r, 30) arrays, not sparse products.
+
+    Attributes
+    ----------
+    values : (r, 30) the entries of the rows on the free unknowns (0 on the prescribed).
+    where : (r, 30) int, the entries' free unknowns (0 where prescribed: ``values`` is 0).
+    slots : (r, 30) int, ``values``'s slots among all n 5 unknowns (``spread``).
+    all_values : (r, 30) the entries on every unknown.
+    gap : (r,) mm, the points' gaps; imposed : (r,) mm, with the prescribed motion's part.
+    free : the number of free unknowns f; size : n 5.
+    """
+
+    def __init__(self, slots, values, gap, dofs, left):
+        free_slots, moved = dofs.free_slots, dofs.prescribed_slots
+        self.size, self.free = int(dofs.free.size), int(free_slots.size)
+        free_of = np.full(self.size, -1, dtype=np.int64)
+        free_of[free_slots] = np.arange(self.free)
+        where = free_of[slots]
+        on_free = where >= 0
+        self.slots, self.all_values, self.gap = slots, values, gap
+        self.values = np.where(on_free, values, 0.0)
+        self.where = np.where(on_free, where, 0)
+        self.on_free = on_free
+        if moved.size:  # the gaps with the prescribed part of the step
+            motion = np.zeros(self.size)
+            motion[moved] = left.ravel()[moved]
+            self.imposed = gap + np.sum(values * motion[slots], axis=1)
+        else:
+            self.imposed = gap.copy()
+
+    @classmethod
+    def of(cls, pieces: list, dofs: Any, left: np.ndarray) -> SetRows:
+        """The rows of the interactions' ``set_model`` answers in ``pieces`` (index, part,
+        found), stacked in their order."""
+        return cls(
+            np.concatenate([found["slots"] for _, _, found in pieces]),
+            np.concatenate([found["values"] for _, _, found in pieces]),
+            np.concatenate([found["gap"] for _, _, found in pieces]),
+            dofs,
+            left,
+        )
+
+    def linear(self, step: np.ndarray) -> np.ndarray:
+        """(r,) mm: the gaps g + G dq at the end of the free step ``step`` (f,) (with the
+        prescribed motion's part)."""
+        return self.imposed + np.sum(self.values * step[self.where], axis=1)
+
+    def columns(self, points: np.ndarray) -> np.ndarray:
+        """(f, m) the columns G_i^T of ``points`` (m,)."""
+        m = len(points)
+        place = self.where[points] * m + np.arange(m)[:, None]
+        flat = np.bincount(place.ravel(), self.values[points].ravel(), self.free * m)
+        return flat.reshape(self.free, m)
+
+    def times(self, points: np.ndarray, x: np.ndarray) -> np.ndarray:
+        """G_points x: (m,) for x (f,), (m, c) for x (f, c)."""
+        values = self.values[points]
+        if x.ndim == 1:
+            return np.sum(values * x[self.where[points]], axis=1)
+        return np.einsum("ik,ikc->ic", values, x[self.where[points]])
+
+    def transposed(self, points: np.ndarray, y: np.ndarray) -> np.ndarray:
+        """(f,) G_points^T y for y (m,)."""
+        weights = (self.values[points] * y[:, None]).ravel()
+        return np.bincount(self.where[points].ravel(), weights, self.free)
+
+    def spread(self, points: np.ndarray, y: np.ndarray) -> np.ndarray:
+        """(n 5,) G_points^T y on every unknown for y (m,)."""
+        weights = (self.all_values[points] * y[:, None]).ravel()
+        return np.bincount(self.slots[points].ravel(), weights, self.size)
+
+    def update(self, points: np.ndarray, weight: np.ndarray) -> sp.csc_matrix:
+        """(f, f) sum over ``points`` of weight_i G_i^T G_i on the free unknowns (only the
+        pairs of free entries: no structural entry outside the points' couplings)."""
+        values, where, on = self.values[points], self.where[points], self.on_free[points]
+        pair = on[:, :, None] & on[:, None, :]
+        data = weight[:, None, None] * values[:, :, None] * values[:, None, :]
+        rows = np.broadcast_to(where[:, :, None], pair.shape)[pair]
+        cols = np.broadcast_to(where[:, None, :], pair.shape)[pair]
+        return sp.csc_matrix((data[pair], (rows, cols)), shape=(self.free, self.free))

@@ -133,21 +133,21 @@ class Factorisation:
     def solve(self, rhs: np.ndarray) -> np.ndarray | None:
         """x with K_ff x = rhs (one or more columns), or None when K_ff is singular."""
         if self.kind == "ldlt":
-            x = _columns(self._ldl.solve, rhs)
+            x = _columns(self._ldl, rhs)
             # Without pivoting the factors of an ill-conditioned K_ff lose digits; a few steps
             # of iterative refinement with the same factors (x += K^-1 (b - K x)) recover them
             # at the cost of a solve each, far below that of an LU.
             for _ in range(REFINEMENTS):
                 if _accurate(self.matrix, x, rhs, self.norm):
                     return x
-                x = x + _columns(self._ldl.solve, rhs - self.matrix @ x)
+                x = x + _columns(self._ldl, rhs - self.matrix @ x)
             if _accurate(self.matrix, x, rhs, self.norm):
                 return x
             self._lu = self._lu or _lu(self.matrix)
             self.kind = "lu"
         if self._lu is None:
             return None
-        x = _columns(self._lu.solve, rhs)
+        x = _columns(self._lu, rhs)
         return x if np.all(np.isfinite(x)) else None
 
     @property
@@ -159,6 +159,18 @@ class Factorisation:
         if self._norm is None:
             self._norm = _infinity_norm(self.matrix)
         return self._norm
+
+    def solve_columns(self, rhs: np.ndarray) -> np.ndarray | None:
+        """X (n, m) with K_ff X = rhs (n, m) by the LDL^T's factors alone, without the accuracy
+        checks and refinements of ``solve`` (a third of the columns' cost on plies-bai-5.1's
+        stack: the products K X), or ``solve`` where only the LU solves. For the columns of
+        a predicted contact set (solvers/contact_sets.py), whose errors cost a worse
+        prediction, which the Newton iteration's own residual then sees, never a wrong
+        equilibrium."""
+        if self.kind != "ldlt":
+            return self.solve(rhs)
+        x = _columns(self._ldl, np.asarray(rhs, dtype=float))
+        return x if np.all(np.isfinite(x)) else None
 
     def inverse(self) -> LinearOperator | None:
         """K^-1 as a LinearOperator from the LDL^T's factors (of K's symmetric part, without
@@ -745,10 +757,15 @@ def _lu(k: sp.csc_matrix):
             return None
 
 
-def _columns(solve, rhs: np.ndarray) -> np.ndarray:
+def _columns(factors: Any, rhs: np.ndarray) -> np.ndarray:
+    """``factors.solve`` of rhs (n,), or of each column of rhs (n, m): in one pass where the
+    factors solve many columns at once (``solve_columns``, the band's: the same bits as
+    column by column), else a solve a column."""
     if rhs.ndim == 1:
-        return np.asarray(solve(rhs))
-    return np.column_stack([solve(np.ascontiguousarray(column)) for column in rhs.T])
+        return np.asarray(factors.solve(rhs))
+    if hasattr(factors, "solve_columns"):
+        return factors.solve_columns(rhs)
+    return np.column_stack([factors.solve(np.ascontiguousarray(column)) for column in rhs.T])
 
 
 def _accurate(k: sp.csc_matrix, x: np.ndarray, rhs: np.ndarray, norm_k: float) -> bool:

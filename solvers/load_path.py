@@ -46,6 +46,9 @@ def load_path(solver: Static, run: StaticRun, phase: int, jump: bool = False) ->
         iterations = 0
         passes = 0
         cuts_here = 0
+        # The first increment of a phase of several, its attempts and sub-increments
+        # (solvers/newton.py ``opens_on_ramp``; each phase's end is reached by a later one).
+        run.opening = increment == 1 and solver.increments > 1
         resized = False  # the attempt follows a cut by ``first_turn``: not cut so again
         # Cuts by ``first_turn`` in this increment. The rule assumes the first step's turn
         # shrinks with the step; where it does not (a turn with a floor), each attempt is cut
@@ -98,6 +101,7 @@ def load_path(solver: Static, run: StaticRun, phase: int, jump: bool = False) ->
             run.damp(None)
             # After a cut, grow the step back towards the nominal one.
             step = min(1.0 / solver.increments, 2.0 * step)
+        run.opening = False
         run.frame(iterations, ratio, history)
         if run.constraint is not None:
             run.info["augmentations"].append(passes)

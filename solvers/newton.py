@@ -68,7 +68,13 @@ the set of each step's end is chosen on the step's own linear model before the s
 (the switched points' rank-one terms by Sherman-Morrison-Woodbury on the factors made), so
 that the step and its set agree; the line search starts again from the new set. An attempt of
 such an interaction that fails is cut without the unilateral attempt (its
-``unilateral_fallback``).
+``unilateral_fallback``). The first increment of a phase of several increments of the load
+path (``run.opening``, set by solvers.load_path) is iterated with such interactions' own
+explicit law instead, no set frozen (``opening_law = "ramp"``: the ply contact's ramped
+penalty): there plies laid at g = 0, or an imposed step that carries hundreds of points
+through the ply below, change the set by hundreds of points an iterate and the predicted sets
+stall; the later increments freeze and predict their sets from the state it reached
+(docs/theory.md §9.3a).
 
 Stalled attempts (``Static(stall_iterations=N)``, off by default; ``stalled``): an attempt
 whose residual ratio stayed above STALLED_RATIO over its last N iterations is cut at once.
@@ -160,6 +166,11 @@ def newton(
     """
     if not run.model.interactions:
         return _newton(run, state, load_factor, max_iterations, False, turn_limit)
+    if getattr(run, "opening", False) and opens_on_ramp(run.model):
+        # The phase's first increment on the set-keeping interactions' ramp (module
+        # docstring): no set frozen, so no unilateral attempt either.
+        released = replace(state, history=on_ramp(run.model, state.history))
+        return _newton(run, released, load_factor, max_iterations, False, turn_limit)
     try:
         return _newton(run, state, load_factor, max_iterations, True, turn_limit)
     except StepTooLong:
@@ -207,6 +218,28 @@ def keeps_contact_sets(model: CompiledModel) -> bool:
     active set, elements/ply_active_set.py, do): without one,
     the frozen iterations of ``newton`` are those of the unilateral law itself."""
     return any(type(part).freeze is not InteractionBlock.freeze for part in model.interactions)
+
+
+def opens_on_ramp(model: CompiledModel) -> bool:
+    """Whether ``model`` has a set-keeping interaction whose law under Static opens each phase
+    of the load path with its explicit law (``opening_law == "ramp"``: the ply contact's
+    active set, elements/ply_active_set.py)."""
+    return any(
+        getattr(part, "opening_law", None) == "ramp" and hasattr(part, "released")
+        for part in model.interactions
+    )
+
+
+def on_ramp(model: CompiledModel, history: tuple) -> tuple:
+    """``history`` with each interaction that opens on its ramp (``opens_on_ramp``) given its
+    history without a set or its marker (its ``released``): its forces the ramp's."""
+    first = len(model.parts) - len(model.interactions)
+    entries = list(history)
+    for i, part in enumerate(model.interactions):
+        released = getattr(part, "released", None)
+        if released is not None and getattr(part, "opening_law", None) == "ramp":
+            entries[first + i] = released(entries[first + i])
+    return tuple(entries)
 
 
 def curves_with_contact(model: CompiledModel, history: tuple) -> bool:

@@ -58,11 +58,17 @@ class StaticRun:
         self.started = time.perf_counter()
         self.state = model.initial_state()
         self.reached = 0.0
+        # Whether the load path is in the first increment of a phase (solvers.load_path;
+        # solvers/newton.py ``opens_on_ramp``).
+        self.opening = False
         own_parts = model.own_tangents(self.state) if solver.tangent == "element" else {}
         own = list(own_parts)
         others = [i for i in range(len(model.parts)) if i not in own]
         self._tangent = Tangent(model, own, others, (self.state, own_parts))
         self.linear = LinearSolver()
+        # The updated K_ff of a predicted contact set (solvers/contact_sets.py), factorised by a
+        # linear solver of its own: its patterns would replace the tangents' kept plans.
+        self.updated_linear = LinearSolver()
         self.compression_free = compression_free_ratio(solver.compression_free, model)
         # The steps' projections on the fibre lengths (solvers.newton_fibres) and the level strains
         # (solvers.newton_levels; not with prescribed motion: 3-14-9-29 on the bias extension).

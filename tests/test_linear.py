@@ -556,3 +556,35 @@ def test_the_splits_infinity_norm_is_the_compiled_norms_and_scipys_to_the_bit():
     factor = LinearSolver().factorise(matrices[-1])
     assert factor._norm is not None  # made by the split, not by a pass of its own
     assert factor.norm == _infinity_norm(matrices[-1])
+
+
+@pytest.mark.parametrize("count", [1, 3, 4, 9])
+def test_the_band_solves_many_columns_as_it_solves_each_to_the_bit(count):
+    # Each column of the compiled pass takes the same operations in the same order as the
+    # one-column solve (solvers.band ``_solve_columns``, without fastmath), on either side
+    # of COLUMNS_TOGETHER; the kernel's Python text (its reference) the same bits too.
+    from solvers import band
+    from solvers.band import BandPlan
+
+    k = strip_matrix(shift=2.5)
+    upper = sp.triu(k, format="csc")
+    upper.sort_indices()
+    factor = BandPlan(upper).factorise(upper.data)
+    assert factor is not None
+    rhs = np.random.default_rng(count).standard_normal((k.shape[0], count))
+    rhs[:, 0] *= 1e-12  # columns of very different sizes
+    alone = np.column_stack([factor.solve(rhs[:, j]) for j in range(count)])
+    assert np.array_equal(factor.solve_columns(rhs), alone)
+    permuted = np.ascontiguousarray(rhs[factor.plan.perm])
+    compiled = band._solve_columns(factor.band, factor.plan.reaches, permuted)
+    plain = getattr(band._solve_columns, "py_func", band._solve_columns)
+    assert np.array_equal(plain(factor.band, factor.plan.reaches, permuted), compiled)
+
+
+def test_the_columns_without_the_accuracy_check_are_the_checked_solves():
+    # Factorisation.solve_columns skips solve's backward-error check and refinement: on a
+    # well-conditioned K_ff the check passes at once, so the two give the same bits.
+    k = strip_matrix()
+    factor = LinearSolver().factorise(k)
+    rhs = np.random.default_rng(3).standard_normal((k.shape[0], 6))
+    assert np.array_equal(factor.solve_columns(rhs), factor.solve(rhs))

@@ -59,9 +59,10 @@ TOLERANCES["fine"] = TOLERANCES["default"]
 # tangents; default 540 -> 462, 540 -> 464 tangents; the same sub-increments, the same
 # equilibrium to 7e-14 mm).
 # The ply contact keeps its ramped penalty under Static: the primal-dual active set
-# (``PlyContact(static_law="active_set")``, its set predicted on each step's linear model)
-# takes 245 and 345 tangents where the ramp takes 271 and 403 (coarse, default), but 3.1 and
-# 24-25 s CPU against 1.2-2.0 and 9-10 (docs/theory.md §9.3a, "An active set under Static").
+# (``PlyContact(static_law="active_set")``, its set predicted on each step's linear model,
+# each phase opened on the ramp) takes 264 and 327 tangents where the ramp takes 271 and 403
+# (coarse, default), and 1.6-1.8 and 10.7-10.9 s CPU against 1.2-1.4 and 10.1-11.2: a tie on
+# the default, a loss on the coarse (docs/theory.md §9.3a, "The predicted set made cheaper").
 PLIES_SOLVER: dict[str, Any] = {
     "kind": "static",
     "increments": 10,
