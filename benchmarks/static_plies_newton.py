@@ -548,9 +548,11 @@ step's linear model, solvers/contact_sets.py; the two alternately in one process
 * The plain penalty without a set (``elements.ply_contact.SMOOTHING = 0``, the ramp's solve
   otherwise), bai coarse: 359 tangents (47-4-4-4-4-3-3-3-3-3 and 91-25-18-13-12-12-9-12-12-19,
   5 cuts), 2.5 s.
-* The heavy stack of tests/test_plies.py (``Static(increments=1)``, 10 x 1 cells): ramp 23,
-  23, 26 Newton iterations at 2, 4, 8 plies; the active set predicted 6, 7, 9 (without the
-  prediction 27, 29, 34), the equilibrium within 5.9e-7, 7.4e-7, 7.9e-7 mm. Without the
+* The heavy stack of tests/test_plies.py (``Static(increments=1)``, 10 x 1 cells; its model
+  is tests/test_ply_active_set.py's ``_sag_model``, not a case of this script): ramp 23,
+  23, 26 Newton iterations at 2, 4, 8 plies; the active set predicted 6, 7, 9 (7, 10, 10
+  since no set is predicted on a step turned downhill; without the prediction 27, 29, 34),
+  the equilibrium within 5.9e-7, 7.4e-7, 7.9e-7 mm. Without the
   prediction every set change flips 1-7 points whose gaps are 1e-10 to 1e-6 mm off, and their
   force k g restarts the ratio at 0.1-0.5 (docs/theory.md §9.3a).
 """
