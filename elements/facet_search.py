@@ -325,8 +325,13 @@ def _closest_facets_kept(
 
 closest_facets_kept = jit(_closest_facets_kept)
 
-# How many facets a point keeps in its short list (``closest_facets_listed``).
-SHORT = 4
+# How many facets a point keeps in its short list (``closest_facets_listed``): eight, so
+# that a point near a vertex of a structured face holds the six facets that meet there
+# (within micrometres of one another: a list of four had one of them for its bound and
+# scanned at nearly every call; docs/theory.md §9.3). On the two-ply fibrous hemisphere's
+# die and holder, steps 1700-2500: whole-list scans 15929 -> 4701, the listed kernel 70 ->
+# 56-59 us a step in the run, the same answers (benchmarks/tool_short_lists.py).
+SHORT = 8
 
 
 def _copy_row(table, source, to, row):
