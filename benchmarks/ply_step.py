@@ -58,8 +58,9 @@ steps). Each evaluation costs about twice the Mindlin's (0.30 against 0.15 ms) b
 fibrous stroke is 4 times as fast at a step 1.8 times as long: the die's candidate lists
 searched again 53 times in those 800 steps (Mindlin steps 3400-5000: twice), 80 us a step,
 and whole candidate lists scanned 21 times a step (the holder's nodes over its vertices,
-where a short list of four held too few facets: eight since, benchmarks/tool_short_lists.py,
-the listed kernel 70 -> 56-59 us a step in the run, the same bits).
+where a short list of four held too few facets: up to eight since, where that doubles the
+list's room, benchmarks/tool_short_lists.py: the whole-list scans 15933 -> 6635, the tools'
+calls replayed 0.97 of their time, the same bits).
 
 Measured (this script, best of 2-4, one thread, nice 5):
 

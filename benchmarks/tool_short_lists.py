@@ -30,21 +30,34 @@ times a step on the holder (80 candidates each: the nodes sliding over its verti
 six facets meet within micrometres of each other and a short list of four had one of them
 for its bound) and 6 on the die, 70 us a step.
 
-Measured (one thread, nice 5, best of 6, load 3.1-3.7; the forces identical at every call):
+Measured, "8" the lists of up to 8 (at least SHORT_LEAST = 4, lengthened where that takes
+the room past half of 8's), "4" the lists of 4 before; one thread, nice 5, best of 6-8,
+the forces identical at every call (us a step of the tools' calls, ratio 8 / 4, full scans):
 
-* fibrous [0/90] steps 1700-2500 (1600 calls): 145.0 -> 137.9 and 139.9 -> 134.6 us a step
-  (0.951, 0.962), full scans 15929 -> 4701;
-* Mindlin [0/90] steps 3400-5000 (3200 calls): 41.2 -> 41.8 us a step (1.014), full scans
-  2220 -> 67.
+* two-ply fibrous [0/90] steps 1700-2500 (1600 calls), load 5.4-5.9: 146.0 -> 141.8
+  (0.972), scans 15933 -> 6635 (lists of 8 everywhere: 0.951, 0.962, 0.911 at load 2.7-3.7,
+  scans 4701);
+* two-ply Mindlin [0/90] steps 3400-5000 (3200 calls), load 4.3-5.4: 42.9 -> 43.7
+  (1.019), scans 2220 -> 82 (lists of 8 everywhere: 1.014, 1.077);
+* one-ply hemisphere-forming (``--forming``, the die, 20 cells) fibrous calls 5000-7000,
+  load 5.8-6.2: 111.9 -> 119.9 (1.072) and 110.7 -> 105.0 (0.948), scans 16976 -> 4057
+  (lists of 8 everywhere: 0.973); Mindlin calls 20000-24000, load 5.9: 69.8 -> 68.1
+  (0.976), scans 17665 -> 3542 (lists of 8 everywhere: 1.016, 1.026).
 
-A replay asks the tools alone, their facets kept in the caches between calls; in the run
-the step's other work evicts them, and the listed kernel's own CPU (``--parts``-style
-timers round it, fibrous steps 1700-2500, separate processes alternating, load 4.5-5.4)
-went from 70.0 / 70.2 to 55.9 / 59.3 us a step (Mindlin steps 3400-5000: 26.3 / 26.6
-against 26.5 / 25.4). The whole step against main 1a2a08b (benchmarks/ply_step.py
---reference, best of 4 / 2, load 3.6-5.4): fibrous steps 1700-2500 1.660 against 1.632 ms,
-Mindlin steps 3400-5000 1.128 against 1.163 (both within the two processes' noise), the
-states at steps 2500 and 5000 identical to the bit.
+A replay asks the tools alone, their facets warm in the caches between calls. In the run
+(timers round the listed kernel, separate processes alternating, load 4.5-5.4), lists of 8
+everywhere took the fibrous [0/90] kernel from 70.0 / 70.2 to 55.9 / 59.3 us a step
+(Mindlin 26.3 / 26.6 against 26.5 / 25.4). The whole step against main 1a2a08b
+(benchmarks/ply_step.py --reference): fibrous steps 1700-2500 1.894 against 1.946 ms (best
+of 2, load 5.8-5.9; lists of 8 everywhere 1.660 against 1.632, load 3.6-5.4), Mindlin
+steps 3400-5000 1.227 against 1.155 (one round, load 5.1-5.4; lists of 8 everywhere 1.128
+against 1.163), 60 us a step either way where the tools' calls themselves differ by about
+1: the two processes' noise at that load; the states at steps 2500 and 5000 identical to the bit; the
+hemisphere-plies case (lists of 8 everywhere, ``python -m validation --cases
+hemisphere-plies --jobs 1`` from each tree) every number of results.json the same but the
+times, its three PNGs byte for byte. A gain of a few microseconds a step where the stroke
+is fast, none to speak of where it is slow: the tools' forces of the fibrous run cost what
+they cost because its nodes move that far a step, not because they are asked twice.
 """
 
 from __future__ import annotations
@@ -116,6 +129,44 @@ def record(
     return saved, calls
 
 
+def record_forming(
+    first: int, count: int, kinematics: str
+) -> tuple[list[bytes], list[tuple[int, np.ndarray, float]]]:
+    """``record`` for the one-ply hemisphere-forming case's ``kinematics`` run at 20 cells
+    (validation/cases/hemisphere_forming.py ``run``, its default time scaling): the die's
+    contact block pickled at its ``first`` computed call, and ``count`` calls from there."""
+    import warnings
+
+    from elements import tool_contact
+    from validation.cases import hemisphere_forming as forming
+    from validation.forming_scaling import TIME_SCALING
+
+    warnings.simplefilter("ignore")
+    blocks: list = []
+    saved: list[bytes] = []
+    calls: list[tuple[int, np.ndarray, float]] = []
+    seen = [0]
+    forces = tool_contact.surface_forces
+
+    def recorded(block, x, load_factor):
+        if not any(block is b for b in blocks):
+            blocks.append(block)
+        if seen[0] == first:
+            saved.extend(pickle.dumps(b) for b in blocks)
+        if first <= seen[0] < first + count:
+            index = next(i for i, b in enumerate(blocks) if b is block)
+            calls.append((index, x.copy(), load_factor))
+        seen[0] += 1
+        return forces(block, x, load_factor)
+
+    tool_contact.surface_forces = recorded
+    try:
+        forming.run(20, kinematics, time_scaling=TIME_SCALING[kinematics]["default"])
+    finally:
+        tool_contact.surface_forces = forces
+    return saved, calls
+
+
 def replay(saved, calls, short: int) -> tuple[float, list[np.ndarray], int]:
     """(CPU s of the calls, their forces, the listed kernel's full scans) of fresh copies of
     the blocks ``saved`` with short lists of ``short`` facets, asked ``calls``."""
@@ -148,12 +199,17 @@ def main() -> None:
     parser.add_argument("--start", type=int, default=1700, help="first step replayed")
     parser.add_argument("--stop", type=int, default=2500, help="step the replay ends at")
     parser.add_argument("--kinematics", default="fibrous", help="fibrous or mindlin plies")
+    parser.add_argument("--forming", action="store_true", help="the one-ply forming case's die")
+    parser.add_argument("--lengths", default="4,8", help="the list lengths compared")
     parser.add_argument("--rounds", type=int, default=6, help="rounds (best CPU)")
     args = parser.parse_args()
     print(f"load {os.getloadavg()}")
-    saved, calls = record(args.start, args.stop, args.kinematics)
+    if args.forming:  # --start / --stop: the die's computed calls
+        saved, calls = record_forming(args.start, args.stop - args.start, args.kinematics)
+    else:
+        saved, calls = record(args.start, args.stop, args.kinematics)
     steps = args.stop - args.start
-    best = {4: np.inf, 8: np.inf}
+    best = {int(length): np.inf for length in args.lengths.split(",")}
     answers: dict[int, list[np.ndarray]] = {}
     scans = {}
     for _ in range(args.rounds):
@@ -161,12 +217,16 @@ def main() -> None:
             spent, got, scans[short] = replay(saved, calls, short)
             best[short] = min(best[short], spent)
             answers.setdefault(short, got)
-    same = all(np.array_equal(a, b) for a, b in zip(answers[4], answers[8]))
+    first, *others = best
+    same = all(
+        np.array_equal(a, b) for other in others for a, b in zip(answers[first], answers[other])
+    )
     for short in best:
         print(f"short lists of {short}: {best[short] / steps * 1e6:.1f} us a step, "
               f"{scans[short]} full scans ({len(calls)} calls, steps "
               f"{args.start}-{args.stop})")  # fmt: skip
-    print(f"ratio 8 / 4 {best[8] / best[4]:.3f}; forces {'identical' if same else 'DIFFERENT'}")
+    ratios = ", ".join(f"{other} / {first} {best[other] / best[first]:.3f}" for other in others)
+    print(f"{ratios}; forces {'identical' if same else 'DIFFERENT'}")
     print(f"load {os.getloadavg()}")
 
 
