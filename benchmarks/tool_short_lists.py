@@ -52,8 +52,8 @@ everywhere took the fibrous [0/90] kernel from 70.0 / 70.2 to 55.9 / 59.3 us a s
 of 2, load 5.8-5.9; lists of 8 everywhere 1.660 against 1.632, load 3.6-5.4), Mindlin
 steps 3400-5000 1.227 against 1.155 (one round, load 5.1-5.4; lists of 8 everywhere 1.128
 against 1.163), 60 us a step either way where the tools' calls themselves differ by about
-1: the two processes' noise at that load; the states at steps 2500 and 5000 identical to the bit; the
-hemisphere-plies case (lists of 8 everywhere, ``python -m validation --cases
+1: the two processes' noise at that load; the states at steps 2500 and 5000 identical to
+the bit; the hemisphere-plies case (lists of 8 everywhere, ``python -m validation --cases
 hemisphere-plies --jobs 1`` from each tree) every number of results.json the same but the
 times, its three PNGs byte for byte. A gain of a few microseconds a step where the stroke
 is fast, none to speak of where it is slow: the tools' forces of the fibrous run cost what
