@@ -50,14 +50,16 @@ everywhere took the fibrous [0/90] kernel from 70.0 / 70.2 to 55.9 / 59.3 us a s
 (Mindlin 26.3 / 26.6 against 26.5 / 25.4). The whole step against main 1a2a08b
 (benchmarks/ply_step.py --reference): fibrous steps 1700-2500 1.894 against 1.946 ms (best
 of 2, load 5.8-5.9; lists of 8 everywhere 1.660 against 1.632, load 3.6-5.4), Mindlin
-steps 3400-5000 1.227 against 1.155 (one round, load 5.1-5.4; lists of 8 everywhere 1.128
-against 1.163), 60 us a step either way where the tools' calls themselves differ by about
-1: the two processes' noise at that load; the states at steps 2500 and 5000 identical to
-the bit; the hemisphere-plies case (lists of 8 everywhere, ``python -m validation --cases
-hemisphere-plies --jobs 1`` from each tree) every number of results.json the same but the
-times, its three PNGs byte for byte. A gain of a few microseconds a step where the stroke
-is fast, none to speak of where it is slow: the tools' forces of the fibrous run cost what
-they cost because its nodes move that far a step, not because they are asked twice.
+steps 3400-5000 1.227 against 1.155 (one round, load 5.1-5.4) and 1.097 against 1.131
+(best of 2, load 4.3-4.8; lists of 8 everywhere 1.128 against 1.163), 30-70 us a step
+either way where the tools' calls themselves differ by about 1: the two processes' noise at
+that load; the states at steps 2500 and 5000 identical to the bit; the hemisphere-plies
+case (``python -m validation --cases hemisphere-plies --jobs 1`` from each tree, one after
+the other, load 4-6) every number of results.json the same but the times, its three PNGs
+byte for byte (77.1 s of CPU against main's 83.4, not alternated: no claim). A gain of a
+few microseconds a step where the stroke is fast, none to speak of where it is slow: the
+tools' forces of the fibrous run cost what they cost because its nodes move that far a
+step, not because they are asked twice.
 """
 
 from __future__ import annotations
