@@ -48,6 +48,20 @@ the loads, and the calls' own conversion of 33-58 arguments (about 5 us each, me
 with an empty kernel of 52 arguments: 4.6 us). No item above about 10 us a block: the
 whole ply glue, were it all gone, is about a third of the Mindlin step, not a half.
 
+"The tools' forces for the history rows" (0.248 ms of the fibrous step, 0.018 of the
+Mindlin's) are the step's own tools' forces, evaluated once a step in both runs: the
+fibrous run keeps a history row at every step (thin 1: its ~4100 steps), the row asks the
+three tools' forces at the new state and the next step takes them from the contacts' kept
+forces (counted over fibrous steps 1700-2500: 800 computed calls a tool, all in the rows,
+none in the steps; the Mindlin run keeps a row every 7 steps and computes the rest in its
+steps). Each evaluation costs about twice the Mindlin's (0.30 against 0.15 ms) because the
+fibrous stroke is 4 times as fast at a step 1.8 times as long: the die's candidate lists
+searched again 53 times in those 800 steps (Mindlin steps 3400-5000: twice), 80 us a step,
+and whole candidate lists scanned 21 times a step (the holder's nodes over its vertices,
+where a short list of four held too few facets: up to eight since, where that doubles the
+list's room, benchmarks/tool_short_lists.py: the whole-list scans 15933 -> 6635, the tools'
+calls replayed 0.97 of their time, the same bits).
+
 Measured (this script, best of 2-4, one thread, nice 5):
 
 * the facing's choice made in the front's call (elements/ply_facing_front.py ``CHOSEN``;

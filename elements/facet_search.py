@@ -325,8 +325,18 @@ def _closest_facets_kept(
 
 closest_facets_kept = jit(_closest_facets_kept)
 
-# How many facets a point keeps in its short list (``closest_facets_listed``).
-SHORT = 4
+# The most facets a point keeps in its short list (``closest_facets_listed``): eight, so
+# that a point near a vertex of a structured face can hold the six facets that meet there
+# (within micrometres of one another: a list of four had one of them for its bound and
+# scanned at nearly every call; docs/theory.md §9.3). On the two-ply fibrous hemisphere's
+# die and holder, steps 1700-2500: whole-list scans 15929 -> 6635, the same answers
+# (benchmarks/tool_short_lists.py).
+SHORT = 8
+# The fewest it keeps where it cannot hold every candidate: lengthened up to SHORT only
+# where that takes the room past half of SHORT's (the fan round a vertex), since a short
+# pass costs a closest point a facet listed (eight everywhere: the slow Mindlin strokes,
+# answered mostly from their lists, 1-8 % slower in their tools' calls).
+SHORT_LEAST = 4
 
 
 def _copy_row(table, source, to, row):
@@ -345,8 +355,9 @@ def _closest_facets_listed(
     near_anchor, near_room, near_cut, near, value, at, near_facets, point, facet, gap,
 ):  # fmt: skip
     """``_closest_facets_kept`` with a short list between the kept facet and the scan: at a
-    scan of point i's candidates (at ``near_anchor[i]``), its SHORT nearest of them are kept
-    in ``near[i]`` (k, SHORT) (in the candidates' order; -1 past the last), with ``near_cut[i]``
+    scan of point i's candidates (at ``near_anchor[i]``), its nearest of them are kept in
+    ``near[i]`` (k, SHORT) (in the candidates' order; -1 past the last: every candidate where
+    they fit, else SHORT_LEAST, or more while that doubles the room), with ``near_cut[i]``
     the next one's distance (or a lower bound of it: the bounding sphere's for a facet
     skipped), and ``near_room[i]`` half the gap from the nearest to it, less the rounding
     allowance of ``_closest_facets_kept``'s room. While the point lies less than
@@ -465,9 +476,18 @@ def _closest_facets_listed(
             continue
         room[i] = _room(nearest, second, slack)
         _copy_row(rows, chosen, kept_facet, i)
-        # The short list: the SHORT nearest in the candidates' order (an insertion sort of
-        # their places), and how far the point may go keeping the nearest on it.
-        listed = min(kept, near.shape[1])
+        # The short list: the nearest in the candidates' order (an insertion sort of their
+        # places), and how far the point may go keeping the nearest on it. Every candidate
+        # where they all fit (no cut); else the SHORT_LEAST nearest, or more while the next
+        # one's distance is less than half way from the nearest to the (SHORT + 1)th: the
+        # list of ``listed`` facets has the room of that next one, whatever ``listed`` is,
+        # and a short pass costs a closest point a facet listed.
+        listed = min(kept, short)
+        if kept > short:
+            listed = min(SHORT_LEAST, short)
+            half = 0.5 * (value[i, short] - nearest)
+            while listed < short and value[i, listed] - nearest < half:
+                listed += 1
         for s in range(1, listed):
             place = at[i, s]
             slot = s
@@ -479,7 +499,7 @@ def _closest_facets_listed(
             near[i, s] = facets[at[i, s]] if s < listed else -1
             if s < listed:
                 _copy_row(rows, at[i, s], near_facets, short * i + s)
-        cut = value[i, near.shape[1]] if kept > near.shape[1] else np.inf
+        cut = value[i, listed] if kept > short else np.inf
         near_cut[i] = cut
         near_room[i] = _room(nearest, cut, slack)
 

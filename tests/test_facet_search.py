@@ -318,3 +318,48 @@ def test_the_candidates_copies_are_the_facets_rows_to_the_last_bit():
         assert got[0].shape == (5000, 4, 3) and got[1].shape == (5000, 4)
         assert got[0].tobytes() == rows.tobytes()
         assert got[1].tobytes() == spheres.tobytes()
+
+
+def test_a_point_sliding_round_a_vertex_of_six_facets_is_answered_from_its_short_list(
+    monkeypatch,
+):
+    """Points 0.1 mm above a flat triangulated sheet (1 mm squares halved: six facets meet at
+    each inner vertex, as on a structured die's or holder's face), each circling an inner
+    vertex 0.03 mm from it, 0.005 mm a call for 60 calls: after their first scan they are
+    answered by their kept facet or their short list at every call. The six facets round
+    the vertex all lie within sqrt(0.1^2 + 0.03^2) = 0.1044 mm of such a point and every
+    other facet beyond sqrt(0.1^2 + (0.707 - 0.03)^2) = 0.68 mm (the fan's hexagon is
+    0.707 mm from the vertex at its nearest), so a list that holds the six has the room of
+    half that difference, 0.29 mm, to let the point circle (at most 0.06 mm from where it
+    was scanned). A list of four or five has one of the six for its cut, at most 4.4 um
+    further than the nearest: a room of about 2 um, less than a call's move, sends the point
+    back to a scan at every call, as the holder's nodes sliding over its vertices were sent
+    in the two-ply fibrous hemisphere (benchmarks/ply_step.py). The answers stay those of
+    the tool without the short lists, to the last bit."""
+    from elements import rigid_surface
+
+    sheet = Mesh.rectangle(10.0, 10.0, 10, 10)
+    listed, plain = RigidSurface(sheet), RigidSurface(sheet)
+    vertices = np.array([[3.0, 3.0], [5.0, 4.0], [6.0, 7.0], [4.0, 6.0]])
+    scans = 0
+    for call in range(60):
+        turn = 0.005 / 0.03 * call  # rad: 0.005 mm a call along the circle
+        x = np.column_stack(
+            [
+                vertices + 0.03 * np.array([np.cos(turn), np.sin(turn)]),
+                np.full(len(vertices), 0.1),
+            ]
+        )
+        if call > 0:
+            kept = (listed._kept[0] >= 0) & (
+                np.linalg.norm(x - listed._kept[1], axis=1) < listed._kept[2]
+            )
+            short = ~kept & (np.linalg.norm(x - listed._near[0], axis=1) < listed._near[1])
+            scans += int(np.count_nonzero(~kept & ~short))
+        monkeypatch.setattr(rigid_surface, "SHORT_LISTS", True)
+        got = listed.distance(x)
+        monkeypatch.setattr(rigid_surface, "SHORT_LISTS", False)
+        expected = plain.distance(x)
+        for a, b in zip(got, expected):
+            np.testing.assert_array_equal(a, b)
+    assert scans == 0
