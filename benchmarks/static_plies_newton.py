@@ -555,6 +555,17 @@ step's linear model, solvers/contact_sets.py; the two alternately in one process
   the equilibrium within 5.9e-7, 7.4e-7, 7.9e-7 mm. Without the
   prediction every set change flips 1-7 points whose gaps are 1e-10 to 1e-6 mm off, and their
   force k g restarts the ratio at 0.1-0.5 (docs/theory.md §9.3a).
+
+The linear solves of the bai stack (the ramp, the case's solver; timers around the calls,
+one thread, CPU, load 5.9-6.7; docs/theory.md §6.5, "Plans kept over changing contact pairs"):
+the linear solver's factorisations 3.9 of 10.7-11.9 s on the default stack, all on band plans
+(302 of the 403 at a new pattern, 18 orderings); judged at a measurement of the plies
+pressed, the band is kept as they hang apart (6.6 ms a factorisation against a fresh
+supernodal one's 1.2 ms) and pressed again (5.5-5.9 against 4.1-5.0 ms). Measuring such
+patterns anew (solvers/linear.py ``REORDER_SHRINK`` 0.75, benchmarks/measured_shrink.py, the
+two rules alternately in one process, best of 2-3, load 4.6-5.8): default 10.04 -> 9.54 s,
+coarse 1.30 -> 1.27 s, the same 403 and 271 tangents, within 5e-14 mm; the heavy stack 1.56 ->
+1.62 s and the deck 2.49 -> 3.66 s (its path moved by round-off): not kept.
 """
 
 from __future__ import annotations

@@ -24,7 +24,8 @@ REORDER_GROWTH of the measured ones (``LinearSolver._choose_band``); a band plan
 a new pattern within its envelope, and a pattern outside it is planned on the union of the
 patterns met while that stays within BAND_UNION_GROWTH of a plan of one pattern alone
 (``LinearSolver._kept_band``, ``_band_plan``: contact pairs that come and go change the
-pattern at most Newton iterations of a ply stack). The pattern's analysis
+pattern at most Newton iterations of a ply stack; a pattern shrunk below REORDER_SHRINK of the
+measured one is not measured anew by default: measured, off). The pattern's analysis
 (the orderings, the band layout, the supernodes, QDLDL's elimination tree) is kept while it
 holds, and so is the map from K_ff's entries to its symmetrised upper triangle (split off by
 one compiled pass). Without pivoting it can fail on an indefinite matrix (a zero pivot) or
@@ -88,6 +89,14 @@ BAND_OVER_SUPERNODAL = 2.0
 # supernodal factor then holds more than this many times the operations it held on the
 # pattern the ordering was made for: then the pattern is ordered afresh.
 REORDER_GROWTH = 1.2
+# A new pattern of fewer than this share of the entries of the pattern QDLDL last measured is
+# measured anew, as one grown past REORDER_GROWTH is; 0: never, the default. The measured
+# factor's operations overstate a sparser pattern's (plies-bai-5.1's default stack measured
+# pressed, 3.2e7, keeps its band, 6.0e7, as its plies hang apart: 6.6 ms a factorisation
+# against a fresh supernodal one's 1.2), but measuring anew did not pay: at 0.75 the bai
+# stack 10.04 -> 9.54 s, the heavy cantilever's 1.56 -> 1.62, the deck's 2.49 -> 3.66 (its
+# path moved by the round-off), benchmarks/measured_shrink.py.
+REORDER_SHRINK = 0.0
 # A band plan is kept for a new pattern whose entries all lie within its envelope
 # (``BandPlan.for_pattern``); a pattern with an entry outside is planned on the union of the
 # patterns the kept plan was made for and its own (contact pairs that come and go then fit
@@ -280,7 +289,7 @@ class LinearSolver:
         is kept."""
         if self._band is None or not KEEP_BAND_PLANS:
             return None
-        if self._ordering is not None and upper.nnz > REORDER_GROWTH * self._ordering[2]:
+        if self._ordering is not None and self._moved(upper.nnz, self._ordering[2]):
             return None
         if self._shrunk(upper):
             return None
@@ -294,6 +303,13 @@ class LinearSolver:
                 self._union, self._checked = None, fresh  # ``_band_plan`` takes it
                 return None
         return kept
+
+    @staticmethod
+    def _moved(entries: int, measured: int) -> bool:
+        """Whether a pattern of ``entries`` has grown past REORDER_GROWTH or shrunk below
+        REORDER_SHRINK times the ``measured`` entries of the pattern QDLDL last measured (its
+        measurement then says nothing of this one's supernodal factor)."""
+        return entries > REORDER_GROWTH * measured or entries < REORDER_SHRINK * measured
 
     def _shrunk(self, upper: sp.csc_matrix) -> bool:
         """Whether ``upper`` holds fewer than BAND_KEPT_SHARE of the union's entries."""
@@ -372,7 +388,7 @@ class LinearSolver:
         if self._measured is not None and self._measured[0] == n:
             if SUPERNODAL_AVAILABLE and self._ordering is not None:
                 ordering, measured_operations, entries = self._ordering
-                grown = upper.nnz > REORDER_GROWTH * entries
+                grown = self._moved(upper.nnz, entries)
                 if not grown and band_operations <= BAND_OVER_SUPERNODAL * measured_operations:
                     self._ldl, self._fresh = None, False  # the band, as on that measurement
                     return plan

@@ -256,3 +256,52 @@ def test_a_plan_kept_for_another_pattern_leaves_the_original_plans_slots():
     assert kept is not None and kept.slots.size != slots.size
     assert np.array_equal(plan.slots, slots)
     assert np.array_equal(plan.factorise(whole.data).solve(np.ones(k.shape[0])), before)
+
+
+def test_a_pattern_shrunk_below_the_measured_entries_gets_a_fresh_solvers_choice(monkeypatch):
+    """With REORDER_SHRINK 0.75 (off by default: solvers/linear.py says why), a 30 x 6
+    strip, whose band QDLDL's measurement takes, then the strip with 30 % of its couplings
+    gone (0.70 of the entries: within the kept envelope and above BAND_KEPT_SHARE of the
+    union, below REORDER_SHRINK of the measured pattern): measured anew, it gets the choice a
+    solver that never met the whole strip makes for it, the supernodal LDL^T (the band kept
+    on the whole strip's measurement held 2.5 times its operations), and solves as numpy
+    does. By default (and before the bound) the band is kept."""
+    if not linear.SUPERNODAL_AVAILABLE:
+        pytest.skip("the measured ordering is kept with the supernodal LDL^T only")
+    default = LinearSolver()
+    default.factorise(strip(length=30, width=6))
+    default.factorise(strip(length=30, width=6, drop=0.3, seed=2))
+    assert default.symbolic == 1 and default._band is not None
+    monkeypatch.setattr(linear, "REORDER_SHRINK", 0.75)
+    first = strip(length=30, width=6)
+    second = strip(length=30, width=6, drop=0.3, seed=2)
+    solver = LinearSolver()
+    solver.factorise(first)
+    assert solver._band is not None
+    upper = upper_of(second)
+    assert solver._band.for_pattern(upper) is not None
+    entries = upper_of(first).nnz
+    assert linear.BAND_KEPT_SHARE * entries < upper.nnz < linear.REORDER_SHRINK * entries
+    fresh = LinearSolver()
+    fresh.factorise(second)
+    assert fresh._band is None and fresh._supernodal is not None
+    factor = solver.factorise(second)
+    assert solver.symbolic == 2 and solver._ordering[2] == upper.nnz
+    assert solver._band is None and solver._supernodal is not None
+    assert solver._supernodal.operations == fresh._supernodal.operations
+    rhs = np.linspace(-1.0, 2.0, second.shape[0])
+    expected = np.linalg.solve(second.toarray(), rhs)
+    x = factor.solve(rhs)
+    assert np.max(np.abs(x - expected)) <= 1e-9 * np.max(np.abs(expected))
+
+
+def test_the_measured_entries_bound_both_ways(monkeypatch):
+    """A pattern is measured anew past REORDER_GROWTH times the measured entries or below
+    REORDER_SHRINK times them (0.75 here; by default 0: never), and not between."""
+    measured = 1000
+    assert not LinearSolver._moved(1, measured)
+    monkeypatch.setattr(linear, "REORDER_SHRINK", 0.75)
+    assert LinearSolver._moved(int(linear.REORDER_GROWTH * measured) + 1, measured)
+    assert LinearSolver._moved(int(linear.REORDER_SHRINK * measured) - 1, measured)
+    assert not LinearSolver._moved(measured, measured)
+    assert not LinearSolver._moved(int(linear.REORDER_SHRINK * measured) + 1, measured)
