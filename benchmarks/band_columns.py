@@ -15,7 +15,7 @@ thread; the two solutions compared to the bit; the machine's load.
     python benchmarks/band_columns.py [--resolution default] [--repeat 5]
 
 Measured (one thread, CPU, 2 cores shared with other jobs): see docs/theory.md §9.3a, "The
-set predicted on the step's linear model".
+predicted set made cheaper, and each phase opened on the ramp".
 """
 
 from __future__ import annotations

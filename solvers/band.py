@@ -52,7 +52,8 @@ PANEL_FROM = 200
 # Columns from which ``BandLDLT.solve_columns`` solves them in one pass: below, its loop over
 # the columns costs more than it saves (plies-bai-5.1's pressed default stack, 3528 unknowns,
 # band 130: 1, 2, 3, 4, 8 columns 1.36, 1.53, 1.67, 1.44, 1.62 ms together against 0.53,
-# 0.99, 1.49, 1.95, 4.21 one by one; benchmarks/band_columns.py).
+# 0.99, 1.49, 1.95, 4.21 one by one; timed once with the pass called directly, below this
+# bound, where benchmarks/band_columns.py's own counts, 1 to 200 columns, take the loop).
 COLUMNS_TOGETHER = 4
 
 
@@ -493,6 +494,8 @@ class BandLDLT:
         """X (n, m) with K X = rhs (n, m): ``solve`` on each column, to the bit, in one
         compiled pass (``_solve_columns``) from COLUMNS_TOGETHER columns on, a solve a column
         below."""
+        if rhs.shape[1] == 0:
+            return np.empty(rhs.shape)
         if rhs.shape[1] < COLUMNS_TOGETHER:
             return np.column_stack([self.solve(rhs[:, j]) for j in range(rhs.shape[1])])
         perm = self.plan.perm

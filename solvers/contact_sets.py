@@ -61,6 +61,8 @@ MAX_SWITCHED = 200
 #: band factorisation's ~5 ms and its assembly and plan) this no longer pays on the plies:
 #: plies-bai-5.1 default 48, 100 and 200 (none: MAX_SWITCHED) 17.5, 16.4 and 15.9 s, the
 #: same iterations (one process, one thread, load 4.1-4.6).
+#: At MAX_SWITCHED the branch is not reached (a pass with more switched points is given up
+#: first): it runs only with a lower bound (tests/test_predicted_sets.py sets 0).
 REFACTOR_AT = 200
 #: Whether newton predicts the sets (benchmarks/static_plies_newton.py compares).
 PREDICTED = True

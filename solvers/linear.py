@@ -779,6 +779,8 @@ def _columns(factors: Any, rhs: np.ndarray) -> np.ndarray:
     column by column), else a solve a column."""
     if rhs.ndim == 1:
         return np.asarray(factors.solve(rhs))
+    if rhs.shape[1] == 0:  # (np.column_stack refuses an empty list)
+        return np.empty(rhs.shape)
     if hasattr(factors, "solve_columns"):
         return factors.solve_columns(rhs)
     return np.column_stack([factors.solve(np.ascontiguousarray(column)) for column in rhs.T])

@@ -168,7 +168,8 @@ def newton(
         return _newton(run, state, load_factor, max_iterations, False, turn_limit)
     if getattr(run, "opening", False) and opens_on_ramp(run.model):
         # The phase's first increment on the set-keeping interactions' ramp (module
-        # docstring): no set frozen, so no unilateral attempt either.
+        # docstring): no set frozen, so no unilateral attempt either; a tool's contact in
+        # the model takes its unilateral law in this increment too (docs/theory.md §9.3a).
         released = replace(state, history=on_ramp(run.model, state.history))
         return _newton(run, released, load_factor, max_iterations, False, turn_limit)
     try:

@@ -588,3 +588,36 @@ def test_the_columns_without_the_accuracy_check_are_the_checked_solves():
     factor = LinearSolver().factorise(k)
     rhs = np.random.default_rng(3).standard_normal((k.shape[0], 6))
     assert np.array_equal(factor.solve_columns(rhs), factor.solve(rhs))
+
+
+@pytest.mark.parametrize("layout", ["C", "F", "strided", "none"])
+def test_many_columns_in_any_layout_are_the_columns_solved_each(layout):
+    # A predicted contact set's columns (solvers/contact_sets.py) come as slices and stacks:
+    # C or Fortran order, every other column of a wider array, or none at all (an empty
+    # (n, 0) answer, where np.column_stack refused an empty list), on the band's factors and
+    # on a non-symmetric K_ff's LU.
+    from solvers.band import BandPlan
+
+    k = strip_matrix(shift=2.5)
+    upper = sp.triu(k, format="csc")
+    upper.sort_indices()
+    band = BandPlan(upper).factorise(upper.data)
+    assert band is not None
+    skewed = k + sp.diags(np.full(k.shape[0] - 1, 1e-2 * abs(k).max()), 1, format="csc")
+    lu = LinearSolver().factorise(skewed.tocsc())
+    assert lu.kind == "lu"
+    wide = np.random.default_rng(5).standard_normal((k.shape[0], 18))
+    rhs = {
+        "C": wide[:, :9].copy(),
+        "F": np.asfortranarray(wide[:, :9]),
+        "strided": wide[:, ::2],
+        "none": wide[:, :0],
+    }[layout]
+    for factor in (band, lu):
+        found = factor.solve_columns(rhs)
+        assert found.shape == rhs.shape
+        alone = [
+            np.asarray(factor.solve(np.ascontiguousarray(rhs[:, j]))) for j in range(rhs.shape[1])
+        ]
+        for j, column in enumerate(alone):
+            assert np.array_equal(found[:, j], column)
