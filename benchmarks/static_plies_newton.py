@@ -565,15 +565,22 @@ step's linear model, solvers/contact_sets.py; the two alternately in one process
   (17-30-24-18-14), 0.44 s against 0.39. No cut either way. The active set does not win: the
   increments after the first save 2-6 iterations each (the one-increment sags above 13-19), and
   each of its iterations costs more (profiled, default: ``predicted_sets`` 0.54 of 2.37 s, 97
-  predictions at ~5.6 ms; the ramp 1.78 s, under the profiler). The equilibria: nodes within
-  2.2e-3 mm (default) and 3.6e-3 mm (coarse); of what the case compares, the plies' director
-  angle along the path within 0.014 and 0.0043 deg (first 80 %; tolerances 8 and 9.5), its mean
-  within 0.0079 and 0.0026 deg (3.7, 5), the mid-surface height within 7.0e-4 and 1.2e-3 mm
-  (0.8, 1), the thickness within 2.0e-4 and 2.2e-4 h (0.22, 0.25), the tip deflection by -2.0e-5
-  and +3.4e-5 relative (1.5 %). One-off runs of other solvers for the stack (a scratch script,
-  default unless said, load 4-5): in 2 increments ramp 185 tangents, 1.83 s, active set 156,
-  1.79 s; in 1, 335 (149 cut), 3.6 s against 417 (298 cut), 20.4 s; coarse without update_turn
-  277 tangents, 3.9 s against 881 (745 cut), 5.4 s. The case keeps the ramp.
+  predictions at ~5.6 ms; the ramp 1.78 s, under the profiler). Where the iterations go
+  (``--detail``'s record of the active set's solve, a scratch script): in the last three
+  increments the set hardly changes (0-3 points an iterate, 14-26 touching; in the second up to
+  91 over 12 of its 40 iterations), and 8-22 of each later increment's 15-40 iterations are the
+  zig-zag of the sag's first increment (below): a step the update cap shortens to 0.1-0.6, the
+  plies' element forces ~1.3 N after it, then a whole step that undoes the stretch (0.003-0.05
+  N), the ratio ~1 throughout; then a quadratic tail of 3-5. The turning stack's straight
+  updates set the count, not the contact. The equilibria: nodes within 2.2e-3 mm (default) and
+  3.6e-3 mm (coarse); of what the case compares, the plies' director angle along the path within
+  0.014 and 0.0043 deg (first 80 %; tolerances 8 and 9.5), its mean within 0.0079 and 0.0026 deg
+  (3.7, 5), the mid-surface height within 7.0e-4 and 1.2e-3 mm (0.8, 1), the thickness within
+  2.0e-4 and 2.2e-4 h (0.22, 0.25), the tip deflection by -2.0e-5 and +3.4e-5 relative (1.5 %).
+  One-off runs of other solvers for the stack (a scratch script, default unless said, load 4-5):
+  in 2 increments ramp 185 tangents, 1.83 s, active set 156, 1.79 s; in 1, 335 (149 cut), 3.6 s
+  against 417 (298 cut), 20.4 s; coarse without update_turn 277 tangents, 3.9 s against 881 (745
+  cut), 5.4 s. The case keeps the ramp.
 
 The linear solves of the bai stack (the ramp, the case's solver; timers around the calls,
 one thread, CPU, load 5.9-6.7; docs/theory.md §6.5, "Plans kept over changing contact pairs"):
