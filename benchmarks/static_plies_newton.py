@@ -1083,8 +1083,10 @@ def compared_change(case, stack, before, after) -> dict[str, float]:
     the mean angle's check), of the mid-surface height ("height_mm") and of the thickness along
     the director over the first 80 % ("thickness", / h); and the tip's mean deflection
     ("tip_before_mm", "tip_after_mm", the drop of the material lines' mid-points at the case's
-    set "tip"). A check's value moves by no more than the profile's change: the fibrous and
-    Mindlin sides are the same runs either way."""
+    set "tip"). A check's value moves by no more than the profile's change (the fibrous and
+    Mindlin sides are the same runs either way), but the height's: this one is node by node,
+    the check interpolates the plies' heights at the shells' horizontal positions, which adds
+    the path's slope times the nodes' horizontal change."""
     from fibreshell.plies import plies_profiles
 
     lines = [
