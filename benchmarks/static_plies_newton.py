@@ -27,7 +27,7 @@ increments" below).
         [--resolution coarse|default] [--stall 25] [--first-turn 0.1 [--no-stall]]
         [--update-turn 0.03 [--no-stall]] [--curved [--increments 8]] [--rounds 2]
         [--detail [--parts]] [--tangent-check [--check-load 1.8] [--every 1]]
-        [--active-set [--plies 20] [--unopened]]
+        [--active-set [--plies 20] [--unopened]]  (--active-set: bai or heavy)
 
 bai: plies-bai-5.1's stack (validation/cases/plies_bai_5_1.py); heavy: plies-heavy-cantilever's;
 deck and sag: plies-deck-of-cards' deck at its largest N on 20 cells and its heavy stack of the
@@ -555,6 +555,32 @@ step's linear model, solvers/contact_sets.py; the two alternately in one process
   the equilibrium within 5.9e-7, 7.4e-7, 7.9e-7 mm. Without the
   prediction every set change flips 1-7 points whose gaps are 1e-10 to 1e-6 mm off, and their
   force k g restarts the ratio at 0.1-0.5 (docs/theory.md §9.3a).
+* heavy (plies-heavy-cantilever's plies, its solver: 5 increments, update_turn 0.03, one gravity
+  phase whose first increment opens on the ramp; ``--case heavy --active-set --rounds 3``, which
+  prints also the change of what the case compares; load 4.1-5.3): default (8 plies, 20 cells)
+  ramp 142 tangents (33-42-30-20-17), best 1.37 s (3.61 the first, compiling); active set 130
+  (33-40-24-18-15), best 1.80 s (1.81, 1.80, 1.87); ``--unopened`` 108 (21-30-24-18-15), best
+  1.66 s against the ramp's 1.24 in the same run. Coarse (4 plies, 10 cells) ramp 125
+  (29-33-29-19-15), best 0.43 s; active set 115 (29-30-24-18-14), 0.50 s; unopened 103
+  (17-30-24-18-14), 0.44 s against 0.39. No cut either way. The active set does not win: the
+  increments after the first save 2-6 iterations each (the one-increment sags above 13-19), and
+  each of its iterations costs more (profiled, default: ``predicted_sets`` 0.54 of 2.37 s, 97
+  predictions at ~5.6 ms; the ramp 1.78 s, under the profiler). Where the iterations go
+  (``--detail``'s record of the active set's solve, a scratch script): in the last three
+  increments the set hardly changes (0-3 points an iterate, 14-26 touching; in the second up to
+  91 over 12 of its 40 iterations), and 8-22 of each later increment's 15-40 iterations are the
+  zig-zag of the sag's first increment (below): a step the update cap shortens to 0.1-0.6, the
+  plies' element forces ~1.3 N after it, then a whole step that undoes the stretch (0.003-0.05
+  N), the ratio ~1 throughout; then a quadratic tail of 3-5. The turning stack's straight
+  updates set the count, not the contact. The equilibria: nodes within 2.2e-3 mm (default) and
+  3.6e-3 mm (coarse); of what the case compares, the plies' director angle along the path within
+  0.014 and 0.0043 deg (first 80 %; tolerances 8 and 9.5), its mean within 0.0079 and 0.0026 deg
+  (3.7, 5), the mid-surface height within 7.0e-4 and 1.2e-3 mm (0.8, 1), the thickness within
+  2.0e-4 and 2.2e-4 h (0.22, 0.25), the tip deflection by -2.0e-5 and +3.4e-5 relative (1.5 %).
+  One-off runs of other solvers for the stack (a scratch script, default unless said, load 4-5):
+  in 2 increments ramp 185 tangents, 1.83 s, active set 156, 1.79 s; in 1, 335 (149 cut), 3.6 s
+  against 417 (298 cut), 20.4 s; coarse without update_turn 277 tangents, 3.9 s against 881 (745
+  cut), 5.4 s. The case keeps the ramp.
 
 The linear solves of the bai stack (the ramp, the case's solver; timers around the calls,
 one thread, CPU, load 5.9-6.7; docs/theory.md §6.5, "Plans kept over changing contact pairs"):
@@ -792,7 +818,7 @@ def solve_case(
         case = _case(case_module.FILE, case_module.CELLS[resolution], {"solver": solver})
         count = case_module.PLIES[resolution] if plies is None else plies
         stack = ply_stack(case, count, static_law=static_law)
-        RECORD["stack"] = stack  # the material lines of ``--active-set``
+        RECORD["stack"], RECORD["case"] = stack, case  # the material lines of ``--active-set``
         model = stack_model(case, stack).compile()
         return plies_solver(case, progress=False).solve(model)
     from validation.cases import plies_deck_of_cards as deck
@@ -992,19 +1018,22 @@ def active_set(
     ramp and the active set (``PlyContact(static_law=...)``, elements/ply_active_set.py),
     alternately ``rounds`` times in this process: iterations per increment, tangents, CPU,
     and the largest change of the material lines between the two equilibria (tilt, deg;
-    thickness and mid-point, mm; ``PlyStack.material_lines``)."""
-    if name != "bai":
-        raise ValueError(f"--active-set: case {name!r}: expected bai")
+    thickness and mid-point, mm; ``PlyStack.material_lines``), and for heavy the change of
+    what plies-heavy-cantilever compares (``compared_change``)."""
+    if name not in ("bai", "heavy"):
+        raise ValueError(f"--active-set: case {name!r}: expected bai or heavy")
     from elements.ply_active_set import ActiveSetPlyContactBlock
 
     ActiveSetPlyContactBlock.opening_law = opening  # type: ignore[assignment]
     results: dict[str, Any] = {}
+    times: dict[str, list[float]] = {"ramp": [], "active_set": []}
     for law in ("ramp", "active_set") * rounds:
         RECORD.update(attempts=[])
         cpu = time.process_time()
         result = solve_case(name, resolution, static_law=law, plies=plies)
         cpu = time.process_time() - cpu
         results[law] = result
+        times[law].append(cpu)
         info = result.info
         print(
             f"--- {name} {resolution}, {RECORD['stack'].count} plies, static_law={law}: "
@@ -1032,6 +1061,80 @@ def active_set(
         f"material lines: tilt within {tilt:.3g} deg, thickness within {thickness:.3g} mm, "
         f"mid-point within {middle:.3g} mm; nodes within {moved:.3g} mm (the ramp's delta "
         f"{1e-3 * stack.ply_thickness:.3g} mm)"
+    )
+    print(
+        "CPU best of "
+        + ", ".join(
+            f"{law} {min(spent):.2f} s ({' '.join(f'{t:.2f}' for t in spent)})"
+            for law, spent in times.items()
+        )
+    )
+    if name == "heavy":
+        change = compared_change(RECORD["case"], stack, results["ramp"], results["active_set"])
+        print_compared_change(change, resolution)
+
+
+def compared_change(case, stack, before, after) -> dict[str, float]:
+    """What plies-heavy-cantilever compares, from the plies' equilibria ``before`` (the ramp)
+    and ``after`` (the active set), each with ``positions`` and ``directors`` ((n, 3) of the
+    stack's mesh): along the case's path (``fibreshell.plies.plies_profiles``) the largest
+    |change| of the director angle (deg; "angle_deg" over its first 80 %, the checks' span,
+    "angle_whole_deg" over all of it), its mean ("angle_mean_deg", which bounds the change of
+    the mean angle's check), of the mid-surface height ("height_mm") and of the thickness along
+    the director over the first 80 % ("thickness", / h); and the tip's mean deflection
+    ("tip_before_mm", "tip_after_mm", the drop of the material lines' mid-points at the case's
+    set "tip"). A check's value moves by no more than the profile's change (the fibrous and
+    Mindlin sides are the same runs either way), but the height's: this one is node by node,
+    the check interpolates the plies' heights at the shells' horizontal positions, which adds
+    the path's slope times the nodes' horizontal change."""
+    from fibreshell.plies import plies_profiles
+
+    lines = [
+        next(iter(plies_profiles(case, stack, r.positions, r.directors).values()))
+        for r in (before, after)
+    ]
+    s = np.asarray(lines[0]["s"])
+    inside = s <= 0.8 * s.max()
+    change = {
+        key: np.abs(np.asarray(lines[1][key]) - np.asarray(lines[0][key]))
+        for key in ("director_angle_deg", "z", "thickness")
+    }
+    h = float(case.parts[0]["element"].fabric.thickness)
+    tip = case.mesh.nodes("tip")
+    drops = [
+        -(
+            stack.material_lines(r.positions, r.directors).midpoint[tip] - case.mesh.points[tip]
+        ).mean(axis=0)[2]
+        for r in (before, after)
+    ]
+    return {
+        "angle_deg": float(change["director_angle_deg"][inside].max()),
+        "angle_whole_deg": float(change["director_angle_deg"].max()),
+        "angle_mean_deg": float(change["director_angle_deg"].mean()),
+        "height_mm": float(change["z"].max()),
+        "thickness": float(change["thickness"][inside].max() / h),
+        "tip_before_mm": float(drops[0]),
+        "tip_after_mm": float(drops[1]),
+    }
+
+
+def print_compared_change(change: dict[str, float], resolution: str) -> None:
+    """``compared_change``'s figures beside plies-heavy-cantilever's tolerances at
+    ``resolution``."""
+    from validation.cases import plies_heavy_cantilever as heavy
+
+    tolerance = heavy.TOLERANCES[resolution]
+    before, after = change["tip_before_mm"], change["tip_after_mm"]
+    print(
+        f"the case's compared values ({resolution} tolerances): director angle within "
+        f"{change['angle_deg']:.3g} deg on the first 80 % ({change['angle_whole_deg']:.3g} on "
+        f"the whole path; tolerance {tolerance['angle_deg']:g}), its mean within "
+        f"{change['angle_mean_deg']:.3g} deg (tolerance {tolerance['angle_mean_deg']:g}), "
+        f"mid-surface height within {change['height_mm']:.3g} mm (tolerance "
+        f"{tolerance['height_mm']:g}), thickness within {change['thickness']:.3g} h (tolerance "
+        f"{tolerance['thickness']:g}); tip deflection {before:.5f} -> {after:.5f} mm "
+        f"({after / before - 1.0:+.2e}; tolerance {heavy.TIP_TOLERANCE['plies']:g} relative to "
+        "the elastica)"
     )
 
 

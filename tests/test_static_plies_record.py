@@ -11,6 +11,7 @@ import sys
 from pathlib import Path
 
 import numpy as np
+import pytest
 
 import solvers.line_search as line_search
 import solvers.penalty_start as penalty_start_module
@@ -68,3 +69,44 @@ def test_detail_records_every_iterate_of_a_ply_stack(monkeypatch):
     assert all(row["touching"] >= row["ramp"] >= 0 for row in rows)
     later = [row for entry in attempts for row in entry["iterations"][1:]]
     assert later and all(np.isfinite(row["gap_change"]) for row in later)
+
+
+def test_the_compared_change_of_a_stack_lowered_whole(monkeypatch):
+    """``compared_change`` (``--case heavy --active-set``: what plies-heavy-cantilever
+    compares between two equilibria of its plies) on the coarse case's 4 plies laid flat,
+    lowered whole by 1 mm and by 1.25 mm: a translation, so the path's heights change by 0.25
+    mm, the director angles and the thickness along the director not at all (round-off), and
+    the tip's deflection goes from 1 to 1.25 mm."""
+    monkeypatch.setenv("NUMBA_NUM_THREADS", os.environ.get("NUMBA_NUM_THREADS", "1"))
+    monkeypatch.setattr(sys, "path", list(sys.path))
+    from types import SimpleNamespace
+
+    from fibreshell.plies import ply_stack
+    from validation.cases import plies_heavy_cantilever as heavy
+    from validation.ground_truth import _case
+
+    script = _script()
+    case = _case(heavy.FILE, heavy.CELLS["coarse"])
+    stack = ply_stack(case, heavy.PLIES["coarse"])
+    directors = np.tile([0.0, 0.0, 1.0], (stack.mesh.n_nodes, 1))
+    states = [
+        SimpleNamespace(positions=stack.mesh.points - [0.0, 0.0, drop], directors=directors)
+        for drop in (1.0, 1.25)
+    ]
+    change = script.compared_change(case, stack, *states)
+    assert change["height_mm"] == pytest.approx(0.25, abs=1e-12)
+    for key in ("angle_deg", "angle_whole_deg", "angle_mean_deg", "thickness"):
+        assert change[key] <= 1e-9, key
+    assert change["tip_before_mm"] == pytest.approx(1.0, abs=1e-12)
+    assert change["tip_after_mm"] == pytest.approx(1.25, abs=1e-12)
+
+
+@pytest.mark.parametrize("name", ["deck", "sag"])
+def test_the_active_set_comparison_refuses_a_case_without_a_ply_stack_law(monkeypatch, name):
+    """``--active-set`` builds the stack with ``static_law``: bai and heavy do, the deck and
+    the sag (plies_deck_of_cards' own stacks) do not, and are refused before any solve."""
+    monkeypatch.setenv("NUMBA_NUM_THREADS", os.environ.get("NUMBA_NUM_THREADS", "1"))
+    monkeypatch.setattr(sys, "path", list(sys.path))
+    script = _script()
+    with pytest.raises(ValueError, match="expected bai or heavy"):
+        script.active_set(name, "coarse", None, 1)

@@ -66,6 +66,11 @@ TIP_TOLERANCE = {"fibrous": 0.02, "mindlin": 0.02, "plies": 0.015}
 # 4.3 s -> 33-42-30-20-17, 142, 3.9 s; coarse 164 -> 125 tangents, 1.5 -> 0.9 s; within 1.5e-12
 # mm. The counts do not fall smoothly with the increments (default in 4: 224 tangents, in 3:
 # 258; with first_turn=0.1, 10: 249, 5: 232; benchmarks/static_plies_newton.py, "Increments").
+# The ply contact keeps its ramped penalty under Static: the primal-dual active set
+# (``PlyContact(static_law="active_set")``, docs/theory.md §9.3a) takes 130 and 115 tangents
+# where the ramp takes 142 and 125 (default, coarse), but 1.80 and 0.50 s CPU against 1.37 and
+# 0.43 (best of 3, load 4.1-5.3; ``--case heavy --active-set``), the compared values within
+# 0.014 deg, 1.2e-3 mm and 2.2e-4 h of the ramp's.
 PLIES_SOLVER: dict[str, Any] | None = {
     "kind": "static",
     "increments": 5,
