@@ -107,6 +107,7 @@ def predicted_sets(
     # the set the factors hold, their step K^-1 (r_f - K_fp dq_p) and K^-1 G_i^T of the
     # points switched from it so far (column ``column_of[i]`` of ``solves``)
     held, held_step = start.copy(), delta_free
+    held_rhs = None  # K held_step, the held system's right-hand side, made when first asked
     solves = np.empty((rows.free, 0))
     column_of = np.full(len(k), -1)
     for _ in range(MAX_PASSES):
@@ -127,14 +128,15 @@ def predicted_sets(
             # more solves than a factorisation costs: the updated K_ff factorised (by a
             # linear solver of its own, so that the tangents' kept plans stay theirs)
             matrix = (factor.matrix + rows.update(switched, weight)).tocsc()
-            right = factor.matrix @ held_step - rows.transposed(
-                switched, weight * imposed[switched]
-            )
+            if held_rhs is None:
+                held_rhs = factor.matrix @ held_step
+            right = held_rhs - rows.transposed(switched, weight * imposed[switched])
             factor = run.updated_linear.factorise(matrix)
             solution = factor.solve(right)
             if solution is None:
                 return None
             held, held_step, step = active.copy(), solution, solution
+            held_rhs = right
             solves, column_of = np.empty((rows.free, 0)), np.full(len(k), -1)
             run.info["predicted_factorisations"] = run.info.get("predicted_factorisations", 0) + 1
             continue
@@ -152,7 +154,9 @@ def predicted_sets(
             step = base - solved @ _capacity_solve(capacity, rows.times(switched, base))
         except np.linalg.LinAlgError:
             return None
-        if not _solves_its_system(factor, rows, switched, weight, step, held_step):
+        if held_rhs is None:
+            held_rhs = factor.matrix @ held_step
+        if not _solves_its_system(factor, rows, switched, weight, step, held_rhs):
             return None  # a capacitance matrix too ill-conditioned: the step as it was
     if np.array_equal(active, start):
         return None
@@ -194,21 +198,20 @@ def _solves_its_system(
     switched: np.ndarray,
     weight: np.ndarray,
     step: np.ndarray,
-    held_step: np.ndarray,
+    held_rhs: np.ndarray,
 ) -> bool:
     """Whether ``step`` (f,) solves the linear system of the held set with the points
     ``switched`` given the penalty ``weight`` (signed k, N/mm): (K + G_S^T W G_S) dq =
-    rhs - G_S^T W g_S, rhs = K ``held_step``, within STEP_RESIDUAL of its largest term, and
-    is finite."""
+    rhs - G_S^T W g_S, rhs = ``held_rhs`` (K times the held set's step), within
+    STEP_RESIDUAL of its largest term, and is finite."""
     if not np.all(np.isfinite(step)):
         return False
     stiffness = factor.matrix @ step
     points = rows.transposed(
         switched, weight * (rows.times(switched, step) + rows.imposed[switched])
     )
-    right = factor.matrix @ held_step
-    scale = max(np.abs(stiffness).max(), np.abs(points).max(), np.abs(right).max())
-    return bool(np.abs(stiffness + points - right).max() <= STEP_RESIDUAL * scale)
+    scale = max(np.abs(stiffness).max(), np.abs(points).max(), np.abs(held_rhs).max())
+    return bool(np.abs(stiffness + points - held_rhs).max() <= STEP_RESIDUAL * scale)
 
 
 class SetRows:

@@ -221,14 +221,17 @@ def keeps_contact_sets(model: CompiledModel) -> bool:
     return any(type(part).freeze is not InteractionBlock.freeze for part in model.interactions)
 
 
+def _opening_on_ramp(part: InteractionBlock) -> bool:
+    """Whether the interaction ``part``'s law under Static opens each phase of the load path
+    with its explicit law (``opening_law == "ramp"``, with a ``released`` history: the ply
+    contact's active set, elements/ply_active_set.py)."""
+    return getattr(part, "opening_law", None) == "ramp" and hasattr(part, "released")
+
+
 def opens_on_ramp(model: CompiledModel) -> bool:
-    """Whether ``model`` has a set-keeping interaction whose law under Static opens each phase
-    of the load path with its explicit law (``opening_law == "ramp"``: the ply contact's
-    active set, elements/ply_active_set.py)."""
-    return any(
-        getattr(part, "opening_law", None) == "ramp" and hasattr(part, "released")
-        for part in model.interactions
-    )
+    """Whether ``model`` has a set-keeping interaction that opens each phase on its ramp
+    (``_opening_on_ramp``)."""
+    return any(_opening_on_ramp(part) for part in model.interactions)
 
 
 def on_ramp(model: CompiledModel, history: tuple) -> tuple:
@@ -237,9 +240,8 @@ def on_ramp(model: CompiledModel, history: tuple) -> tuple:
     first = len(model.parts) - len(model.interactions)
     entries = list(history)
     for i, part in enumerate(model.interactions):
-        released = getattr(part, "released", None)
-        if released is not None and getattr(part, "opening_law", None) == "ramp":
-            entries[first + i] = released(entries[first + i])
+        if _opening_on_ramp(part):
+            entries[first + i] = part.released(entries[first + i])  # type: ignore[attr-defined]
     return tuple(entries)
 
 

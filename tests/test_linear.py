@@ -558,12 +558,8 @@ def test_the_splits_infinity_norm_is_the_compiled_norms_and_scipys_to_the_bit():
     assert factor.norm == _infinity_norm(matrices[-1])
 
 
-@pytest.mark.parametrize("count", [1, 3, 4, 9])
-def test_the_band_solves_many_columns_as_it_solves_each_to_the_bit(count):
-    # Each column of the compiled pass takes the same operations in the same order as the
-    # one-column solve (solvers.band ``_solve_columns``, without fastmath), on either side
-    # of COLUMNS_TOGETHER; the kernel's Python text (its reference) the same bits too.
-    from solvers import band
+def _strip_band():
+    """(K, the band LDL^T of K) of a strip's stiffness shifted by 2.5 (``strip_matrix``)."""
     from solvers.band import BandPlan
 
     k = strip_matrix(shift=2.5)
@@ -571,6 +567,17 @@ def test_the_band_solves_many_columns_as_it_solves_each_to_the_bit(count):
     upper.sort_indices()
     factor = BandPlan(upper).factorise(upper.data)
     assert factor is not None
+    return k, factor
+
+
+@pytest.mark.parametrize("count", [1, 3, 4, 9])
+def test_the_band_solves_many_columns_as_it_solves_each_to_the_bit(count):
+    # Each column of the compiled pass takes the same operations in the same order as the
+    # one-column solve (solvers.band ``_solve_columns``, without fastmath), on either side
+    # of COLUMNS_TOGETHER; the kernel's Python text (its reference) the same bits too.
+    from solvers import band
+
+    k, factor = _strip_band()
     rhs = np.random.default_rng(count).standard_normal((k.shape[0], count))
     rhs[:, 0] *= 1e-12  # columns of very different sizes
     alone = np.column_stack([factor.solve(rhs[:, j]) for j in range(count)])
@@ -596,13 +603,7 @@ def test_many_columns_in_any_layout_are_the_columns_solved_each(layout):
     # C or Fortran order, every other column of a wider array, or none at all (an empty
     # (n, 0) answer, where np.column_stack refused an empty list), on the band's factors and
     # on a non-symmetric K_ff's LU.
-    from solvers.band import BandPlan
-
-    k = strip_matrix(shift=2.5)
-    upper = sp.triu(k, format="csc")
-    upper.sort_indices()
-    band = BandPlan(upper).factorise(upper.data)
-    assert band is not None
+    k, band = _strip_band()
     skewed = k + sp.diags(np.full(k.shape[0] - 1, 1e-2 * abs(k).max()), 1, format="csc")
     lu = LinearSolver().factorise(skewed.tocsc())
     assert lu.kind == "lu"
