@@ -45,7 +45,7 @@ from typing import Any
 
 import numpy as np
 
-from elements import ply_load_kernels, ply_projection, ply_sides
+from elements import ply_sides
 from elements.ply_block import PlyContactBlock
 from elements.ply_fade import point_fade
 from elements.ply_projection import Facing, penalty_law
@@ -187,24 +187,6 @@ class ActiveSetPlyContactBlock(PlyContactBlock):
         if getattr(facing, "law", "ramp") == "bilateral":
             return bilateral_law(facing.gap[on], self.stiffness[on])
         return penalty_law(facing.gap[on], self.stiffness[on], 0.0)
-
-    def internal_force(self, state: State, history: Any = None):
-        if not isinstance(history, FrozenSides):
-            return super().internal_force(state, history)
-        facing = self._held(state, history)
-        if ply_projection.COMPILED:  # the same bits (elements/ply_load_kernels.py)
-            law = getattr(facing, "law", "ramp")
-            return ply_load_kernels.ply_loads(self, state, facing, law=law)
-        force, moment = np.zeros((self.n_nodes, 3)), np.zeros((self.n_nodes, 3))
-        nodes, forces, moments, on, _, law = self._pair_loads(state, facing)
-        ends = self._end_loads(state, facing, on, law)
-        flat, ends_flat = nodes.ravel(), ends[0].ravel()
-        for axis in range(3):
-            force[:, axis] += np.bincount(ends_flat, ends[1][..., axis].ravel(), self.n_nodes)
-            moment[:, axis] += np.bincount(ends_flat, ends[2][..., axis].ravel(), self.n_nodes)
-            force[:, axis] += np.bincount(flat, forces[..., axis].ravel(), self.n_nodes)
-            moment[:, axis] += np.bincount(flat, moments[..., axis].ravel(), self.n_nodes)
-        return force, moment
 
     def strain_energy(self, state: State, history: Any = None) -> float:
         if not isinstance(history, FrozenSides):

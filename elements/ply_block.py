@@ -514,8 +514,9 @@ class PlyContactBlock(InteractionBlock):
         if self._frictional(history):
             history = ply_landing_kept.landed_at(self, state, history, facing)
         if ply_projection.COMPILED and not self.curved:  # the same bits (ply_load_kernels.py)
-            if not self._frictional(history):
-                return ply_load_kernels.ply_loads(self, state, facing)
+            if not self._frictional(history):  # (law: a frozen active set's, ply_active_set.py)
+                law = getattr(facing, "law", "ramp")
+                return ply_load_kernels.ply_loads(self, state, facing, law=law)
             sliding = self.friction_state(state, history, facing)
             return ply_load_kernels.ply_loads(self, state, facing, sliding, history.anchor)
         if self.curved:
