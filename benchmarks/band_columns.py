@@ -7,7 +7,7 @@ cheaper (``contact_sets.REFACTOR_AT``).
 
 The K_ff and the columns are those of the first prediction of the displacement phase (load
 factor past 1) of plies-bai-5.1's stack with ``PlyContact(static_law="active_set")``
-(benchmarks/static_plies_newton.py ``solve_case``), the plies pressed together (the gravity
+(benchmarks/static_plies_case.py ``solve_case``), the plies pressed together (the gravity
 phase's K_ff, plies apart, has a band of 11 on the default stack); each count of columns is
 solved both ways, alternately, best of ``--repeat``, CPU (``time.process_time``), one
 thread; the two solutions compared to the bit; the machine's load.
@@ -42,7 +42,7 @@ class Captured(Exception):
 def capture(resolution: str, wanted: int):
     """(K_ff's Factorisation, the (f, m) columns G_i^T of ``wanted`` points at the first
     prediction of the displacement phase with at least that many reachable points)."""
-    import static_plies_newton as bench
+    import static_plies_case as bench
 
     from solvers import contact_sets
 

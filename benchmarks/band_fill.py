@@ -3,7 +3,7 @@
 The band LDL^T's band written in its envelope alone (solvers.band ``BandPlan.band_of``: one
 compiled pass into an uninitialised array) against the whole band zeroed and scattered (the
 reference pass, as before), on every band factorisation of a Static ply solve
-(benchmarks/static_plies_newton.py ``solve_case``; plies-bai-5.1's stack by default): each
+(benchmarks/static_plies_case.py ``solve_case``; plies-bai-5.1's stack by default): each
 call's band made both ways, best of ``--repeat``, CPU (``time.process_time``), one thread;
 the two bands' factors compared to the bit within the envelope (the only entries the kernels
 read); and the accuracy check's ||K_ff||_inf (solvers.linear ``_infinity_norm``, one compiled
@@ -39,7 +39,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # run from anywher
 
 os.environ.setdefault("NUMBA_NUM_THREADS", "1")
 
-from benchmarks.static_plies_newton import solve_case  # noqa: E402
+from benchmarks.static_plies_case import solve_case  # noqa: E402
 from solvers import band, linear  # noqa: E402
 
 

@@ -2,7 +2,7 @@
 below REORDER_SHRINK of the pattern QDLDL last measured (solvers/linear.py), against the rule
 before (a shrunk pattern kept the stale measurement: ``REORDER_SHRINK = 0``, the reference),
 side by side in this process, alternating turns, best of ``--rounds``: the Static solve of
-the ply stacks of benchmarks/static_plies_newton.py ``solve_case`` (plies-bai-5.1's by
+the ply stacks of benchmarks/static_plies_case.py ``solve_case`` (plies-bai-5.1's by
 default; the case's own solver) at each resolution asked for and the 2560-triangle Mindlin
 cantilever of benchmarks/static_solver.py (P L^2/EI = 3, 5 increments). CPU
 (``time.process_time``), one thread; the tangents, the orderings (``LinearSolver.symbolic``
@@ -27,6 +27,17 @@ pattern shrinks). REORDER_SHRINK 1/1.2 (load 3.0-6.1): bai coarse 1.35 -> 1.38 s
 Timers around the bai default solve's calls (load 5.9-6.7, two rounds): the linear
 solver's factorise 3.88-3.94 s of 10.7-11.9 s both ways (the choice's measurements 0.13 ->
 0.28-0.30 s, the rest 0.15 s less). So the rule is off (solvers/linear.py REORDER_SHRINK).
+
+The linear solves of the bai stack (the ramp, the case's solver; timers around the calls,
+one thread, CPU, load 5.9-6.7; docs/theory.md §6.5, "Plans kept over changing contact pairs"):
+the linear solver's factorisations 3.9 of 10.7-11.9 s on the default stack, all on band plans
+(302 of the 403 at a new pattern, 18 orderings); judged at a measurement of the plies
+pressed, the band is kept as they hang apart (6.6 ms a factorisation against a fresh
+supernodal one's 1.2 ms) and pressed again (5.5-5.9 against 4.1-5.0 ms). Measuring such
+patterns anew (solvers/linear.py ``REORDER_SHRINK`` 0.75, this script, the
+two rules alternately in one process, best of 2-3, load 4.6-5.8): default 10.04 -> 9.54 s,
+coarse 1.30 -> 1.27 s, the same 403 and 271 tangents, within 5e-14 mm; the heavy stack 1.56 ->
+1.62 s and the deck 2.49 -> 3.66 s (its path moved by round-off): not kept.
 """
 
 from __future__ import annotations
@@ -76,9 +87,9 @@ def cantilever():
 
 
 def plies(case: str, resolution: str):
-    """The plies of ``case`` (benchmarks/static_plies_newton.py: bai, heavy, deck, sag)
+    """The plies of ``case`` (benchmarks/static_plies_case.py: bai, heavy, deck, sag)
     solved by the case's own solver: (positions, directors, tangents)."""
-    import static_plies_newton as bench
+    import static_plies_case as bench
 
     result = bench.solve_case(case, resolution)
     return result.positions, result.directors, int(result.info["evaluations"]["tangent"])

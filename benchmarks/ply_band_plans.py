@@ -6,7 +6,7 @@ plan kept for a new pattern within its envelope and made on the union of the pat
 plan and structure at every new pattern (the reference: main before them), docs/theory.md
 §6.5, "Plans kept over changing contact pairs".
 
-Each Static ply solve of the report's ply cases (benchmarks/static_plies_newton.py
+Each Static ply solve of the report's ply cases (benchmarks/static_plies_case.py
 ``solve_case`` with the case's own solver: plies-bai-5.1's plies with its stall and first-turn
 rules, plies-heavy-cantilever's, plies-deck-of-cards' deck at its largest N and its heavy
 stack of the fewest plies) both ways in alternating turns in this process, best of
@@ -61,7 +61,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # run from anywher
 
 os.environ.setdefault("NUMBA_NUM_THREADS", "1")
 
-from benchmarks.static_plies_newton import solve_case  # noqa: E402
+from benchmarks.static_plies_case import solve_case  # noqa: E402
 from femcore.assembly import FreeTangentAssembler  # noqa: E402
 from solvers import linear, newton  # noqa: E402
 from solvers.band import BandLDLT, BandPlan  # noqa: E402

@@ -93,7 +93,7 @@ import solvers.line_search as line_search  # noqa: E402
 import solvers.newton as newton_module  # noqa: E402
 import solvers.static as static_module  # noqa: E402
 from benchmarks.ply_newton_table import CASE_RULES  # noqa: E402
-from benchmarks.static_plies_newton import solve_case  # noqa: E402
+from benchmarks.static_plies_case import solve_case  # noqa: E402
 from elements import ply_block  # noqa: E402
 from femcore.dofs import N_COLUMNS  # noqa: E402
 from solvers import newton_curvature  # noqa: E402

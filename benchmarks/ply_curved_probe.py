@@ -55,7 +55,7 @@ os.environ.setdefault("NUMBA_NUM_THREADS", "1")
 import solvers.newton as newton_module  # noqa: E402
 from benchmarks.ply_newton_table import CASE_RULES  # noqa: E402
 from benchmarks.ply_simple_root import TODAY, use  # noqa: E402
-from benchmarks.static_plies_newton import solve_case  # noqa: E402
+from benchmarks.static_plies_case import solve_case  # noqa: E402
 from elements import ply_block  # noqa: E402
 
 PLAIN_PAIRS = ply_block.PlyContactBlock._pair_loads

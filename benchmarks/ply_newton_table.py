@@ -4,7 +4,8 @@ and plies-deck-of-cards' heavy stack of the fewest plies (``sag``), at a resolut
 the iterations of each converged increment, those of the attempts cut, the tangents
 (``info["evaluations"]["tangent"]``) and the CPU time (``time.process_time``, one thread),
 the machine's load printed with them. The table the remedies of docs/theory.md §6.5 and
-§9.3a are measured against (benchmarks/static_plies_newton.py holds their figures).
+§9.3a are measured against (benchmarks/static_plies_newton.py and
+its siblings static_plies_*.py hold their figures).
 
     python benchmarks/ply_newton_table.py [--cases bai,heavy,sag] [--resolution coarse]
         [--heavy-plies [--tied] [--curved]]
@@ -56,7 +57,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # run from anywher
 
 os.environ.setdefault("NUMBA_NUM_THREADS", "1")
 
-from benchmarks.static_plies_newton import solve_case  # noqa: E402
+from benchmarks.static_plies_case import solve_case  # noqa: E402
 
 # The cases' own stall rule and first-turn limit (validation/cases/plies_bai_5_1.py
 # PLIES_SOLVER; the others set neither).

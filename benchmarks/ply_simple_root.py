@@ -6,7 +6,8 @@ tangents, CPU (one thread) and how far the final positions moved.
 
 Today's law, W = -k g^3 / (6 delta) on the ramp -delta < g < 0, k (g + delta/2) past it, has
 W' = W'' = 0 at g = 0: a point in contact that carries no force sits at a double root, where
-Newton only halves its gap an iteration (the tails of benchmarks/static_plies_newton.py). The
+Newton only halves its gap an iteration (the tails of benchmarks/static_plies_tangent_check.py,
+"The deck's linear tail"). The
 trial law is the softplus of the same deep branch,
 
     W'(g) = -k e softplus(-g/e - 1/2),  W''(g) = k sigmoid(-g/e - 1/2),
@@ -75,7 +76,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # run from anywher
 os.environ.setdefault("NUMBA_NUM_THREADS", "1")
 
 from benchmarks.ply_newton_table import CASE_RULES  # noqa: E402
-from benchmarks.static_plies_newton import solve_case  # noqa: E402
+from benchmarks.static_plies_case import solve_case  # noqa: E402
 from elements import ply_block, ply_projection  # noqa: E402
 
 TODAY = ply_projection.penalty_law

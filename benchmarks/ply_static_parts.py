@@ -3,7 +3,7 @@ its touching points in one compiled pass (elements/ply_point_tangent.py, the car
 nodes elements/ply_carry.py) against numpy's (their reference), the facing before the last
 kept (elements/ply_block.py ``KEEP_FACING_BEFORE``) against the last alone, and the facing
 search over every pair compiled (elements/ply_search_pairs.py) against numpy's. Each solve of the
-report's Static plies at a resolution (benchmarks/static_plies_newton.py ``solve_case``:
+report's Static plies at a resolution (benchmarks/static_plies_case.py ``solve_case``:
 plies-bai-5.1's plies, plies-heavy-cantilever's, plies-deck-of-cards' 4-ply sag) once with
 the reference (numpy's tangent, the last facing alone: main before these) and once with both,
 in turns in this process, best of ``--repeat``: CPU (``time.process_time``, one thread), the
@@ -56,7 +56,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # run from anywher
 
 os.environ.setdefault("NUMBA_NUM_THREADS", "1")
 
-from benchmarks.static_plies_newton import solve_case  # noqa: E402
+from benchmarks.static_plies_case import solve_case  # noqa: E402
 from elements import ply_block, ply_carry, ply_point_tangent, ply_search  # noqa: E402
 
 COMPILED_BLOCKS = ply_point_tangent.point_blocks

@@ -60,7 +60,7 @@ LAWS = ("ramp", "active_set")
 #: The set's rule: True, lambda_k (stored where the last set was chosen) + c (-g_{k+1}) > 0
 #: (module docstring); False, g_{k+1} < 0 alone (the rule with the multiplier of the same
 #: iterate, lambda_{k+1} = -k g_{k+1}, to which the primal-dual rule of a condensed penalty
-#: reduces): benchmarks/static_plies_newton.py ``--active-set`` measures the two.
+#: reduces): benchmarks/static_plies_active_set.py measures the two.
 HYSTERESIS = True
 
 
@@ -103,8 +103,8 @@ class ActiveSetPlyContactBlock(PlyContactBlock):
     unilateral_fallback = False
     #: The law of the first increment of each phase of Static's load path (solvers/newton.py
     #: ``opens_on_ramp``): "ramp", the explicit solver's, the history ``released``; None, the
-    #: active set there too. plies-bai-5.1's default stack (benchmarks/static_plies_newton.py
-    #: ``--active-set``): there the set changes by hundreds of points an iterate and the
+    #: active set there too. plies-bai-5.1's default stack (benchmarks/static_plies_active_set.py):
+    #: there the set changes by hundreds of points an iterate and the
     #: predicted set stalls (64 iterations and 125 cut in the first displacement increment).
     opening_law: str | None = "ramp"
 

@@ -53,7 +53,7 @@ __all__ = [
 MAX_PASSES = 20
 #: The most points a prediction switches: more, and the step is far from the set (the
 #: iterates' own rule chooses it). Measured on plies-bai-5.1's default stack
-#: (benchmarks/static_plies_newton.py ``--active-set``): 64, 200 and 1000 (REFACTOR_AT 16,
+#: (benchmarks/static_plies_active_set.py): 64, 200 and 1000 (REFACTOR_AT 16,
 #: 48, 16) gave 405, 345 and 322 tangents in 19.6, 22.7 and 61.9 s.
 MAX_SWITCHED = 200
 #: Past this many new solves in a pass, the updated K_ff is factorised instead (by the run's
@@ -64,7 +64,7 @@ MAX_SWITCHED = 200
 #: At MAX_SWITCHED the branch is not reached (a pass with more switched points is given up
 #: first): it runs only with a lower bound (tests/test_predicted_sets.py sets 0).
 REFACTOR_AT = 200
-#: Whether newton predicts the sets (benchmarks/static_plies_newton.py compares).
+#: Whether newton predicts the sets (benchmarks/static_plies_active_set.py compares).
 PREDICTED = True
 
 

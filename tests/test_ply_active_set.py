@@ -212,7 +212,7 @@ def test_the_sag_reaches_the_ramps_equilibrium():
     penetrating by nearly nothing under either law). Not a bound where the plies slide:
     on plies-heavy-cantilever's coarse stack the two laws' nodes differ by 3.6e-3 mm against
     (N - 1) delta / 2 = 2.25e-3, the slip built up along the strip
-    (benchmarks/static_plies_newton.py --case heavy --active-set)."""
+    (benchmarks/static_plies_active_set.py --case heavy)."""
     mid = Mesh.rectangle(100.0, 5.0, nx=10, ny=1)
     positions = {}
     for law in ("ramp", "active_set"):

@@ -1,7 +1,7 @@
-"""benchmarks/static_plies_newton.py's record of a Static ply solve (its ``--detail``): the
-solver's pieces it wraps are those the load path calls, so every attempt and iterate is
-recorded (the wrapped Newton entry once moved from solvers/load_path.py to
-solvers/penalty_start.py and the script stopped at its start)."""
+"""benchmarks/static_plies_iterates.py's record of a Static ply solve
+(benchmarks/static_plies_newton.py ``--detail``): the solver's pieces it wraps are those the
+load path calls, so every attempt and iterate is recorded (the wrapped Newton entry once moved
+from solvers/load_path.py to solvers/penalty_start.py and the script stopped at its start)."""
 
 from __future__ import annotations
 
@@ -21,11 +21,13 @@ from femcore import Mesh
 from materials import BendingLaw, Fabric, ShearLaw
 from solvers import Static
 
-SCRIPT = Path(__file__).resolve().parents[1] / "benchmarks" / "static_plies_newton.py"
+BENCHMARKS = Path(__file__).resolve().parents[1] / "benchmarks"
 
 
-def _script():
-    spec = importlib.util.spec_from_file_location("static_plies_newton_script", SCRIPT)
+def _script(name: str = "static_plies_newton"):
+    """The benchmark script ``name`` loaded as a module (its siblings imported as the
+    benchmarks package's)."""
+    spec = importlib.util.spec_from_file_location(f"{name}_script", BENCHMARKS / f"{name}.py")
     assert spec is not None and spec.loader is not None
     module = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(module)
@@ -40,7 +42,7 @@ def test_detail_records_every_iterate_of_a_ply_stack(monkeypatch):
     monkeypatch.setattr(penalty_start_module, "newton", penalty_start_module.newton)
     monkeypatch.setattr(static_module.StaticRun, "tangent", static_module.StaticRun.tangent)
     monkeypatch.setattr(line_search.Watchdog, "step", line_search.Watchdog.step)
-    script = _script()
+    script = _script()  # the command that runs the record
     script.instrument()
     fabric = Fabric(
         thickness=2.0,
@@ -85,7 +87,7 @@ def test_the_compared_change_of_a_stack_lowered_whole(monkeypatch):
     from validation.cases import plies_heavy_cantilever as heavy
     from validation.ground_truth import _case
 
-    script = _script()
+    script = _script("static_plies_active_set")
     case = _case(heavy.FILE, heavy.CELLS["coarse"])
     stack = ply_stack(case, heavy.PLIES["coarse"])
     directors = np.tile([0.0, 0.0, 1.0], (stack.mesh.n_nodes, 1))
@@ -107,6 +109,6 @@ def test_the_active_set_comparison_refuses_a_case_without_a_ply_stack_law(monkey
     the sag (plies_deck_of_cards' own stacks) do not, and are refused before any solve."""
     monkeypatch.setenv("NUMBA_NUM_THREADS", os.environ.get("NUMBA_NUM_THREADS", "1"))
     monkeypatch.setattr(sys, "path", list(sys.path))
-    script = _script()
+    script = _script("static_plies_active_set")
     with pytest.raises(ValueError, match="expected bai or heavy"):
         script.active_set(name, "coarse", None, 1)

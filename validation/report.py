@@ -161,7 +161,7 @@ __all__ = [
 # all, every check passed); bai-6.1.1-sensitivity twice its wall (6.8 s: two Dask workers,
 # whose CPU its case_cpu_s does not count).
 # plies-deck-of-cards with its decks' increments started on soft ply contacts
-# (``Static(ply_penalty_start=1e-3)``, benchmarks/static_plies_newton.py): case_cpu_s of
+# (``Static(ply_penalty_start=1e-3)``, benchmarks/static_plies_deck_start.py): case_cpu_s of
 # ``--cases plies-deck-of-cards --jobs 1``, a warm numba cache, load 2-4: default 11.2 s,
 # coarse 3.6 s (every check passed).
 # The default figures measured anew but the sensitivity's (its Dask workers' CPU is not in its

@@ -36,7 +36,7 @@ PLIES = {"coarse": 4, "default": 8, "fine": 20}
 # measured values with about 30 % margin ("fine" is not measured: the default's; 20 plies,
 # the real stack, on the default's 30 cells converges with PLIES_SOLVER in 755 tangents, 123 s
 # CPU, and with the contact's predicted active set in 527, 239 s, benchmarks/
-# static_plies_newton.py "The ply contact's normal law under Static"; at 60 cells not
+# static_plies_active_set.py "The ply contact's normal law under Static"; at 60 cells not
 # measured); the Mindlin band (10, 90) deg says only that its normals do not follow the slip.
 TOLERANCES = {
     "coarse": {"angle_deg": 7.0, "angle_mean_deg": 4.2, "height_mm": 4.4, "thickness": 0.28,

@@ -81,7 +81,7 @@ DECK_CURVED = True
 # penalty's force k g^2 / (2 delta) and its stiffness both vanish, and the plies' gap mode is
 # their bending alone (about 1e-4 N/mm, against a penalty of 3000 N/mm a point). Newton halves
 # the gaps towards g* ~ -sqrt(2 delta F / k) (-5e-7 mm), and points just off contact, carried
-# past it in one step, restart the run (benchmarks/static_plies_newton.py, "The deck's last
+# past it in one step, restart the run (benchmarks/static_plies_deck_start.py, "The deck's last
 # increment"). The automatic penalty (0.1 m omega_max^2, set for the explicit step by the
 # plies' membrane) is what makes that mode 3e7 times softer than the contact.
 DECK_ITERATIONS = 150
@@ -90,7 +90,7 @@ DECK_ITERATIONS = 150
 # equilibrium's gaps lie further from the ramp's double root, and the full penalty's
 # equilibrium is then a few iterations away; the law, and so the result, is the full one.
 # Measured (the five decks of the default report, one thread, CPU, load 5.3-6.5;
-# benchmarks/static_plies_newton.py --deck-start): without 1111 tangents, 17-19 s (the 8-ply
+# benchmarks/static_plies_deck_start.py): without 1111 tangents, 17-19 s (the 8-ply
 # deck 16-15-10-139 and 492 cut); with 1e-3 390, 4.3 s (18-16-12-39 and 48 cut), the same
 # equilibria within 3.3e-10 mm; 3e-4 384, 4.9 s (the 8-ply deck's first increment 89). A
 # penalty of 1e-3 of the automatic one for the whole solve took 334 tangents, 4.1 s, but
