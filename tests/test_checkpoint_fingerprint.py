@@ -46,7 +46,9 @@ def cable(
 
 
 def explicit(**options) -> CentralDifference:
-    return CentralDifference(**{"duration": 2e-4, "progress": False, **options})
+    return CentralDifference(
+        **{"duration": 2e-4, "progress": False, "kinetic_bound": None, **options}
+    )
 
 
 def relaxation(**options) -> DynamicRelaxation:

@@ -263,7 +263,7 @@ def test_a_plate_slides_down_a_frictionless_slope_with_g_sin_phi():
 
     phi, duration = np.radians(20.0), 0.002
     model, normal, down_the_slope = plate_on_slope(20.0, 0.0)
-    run = CentralDifference(duration=duration, progress=False).solve(model)
+    run = CentralDifference(duration=duration, progress=False, kinetic_bound=None).solve(model)
     assert run.converged
     mean = run.displacements.mean(axis=0)
     assert mean @ down_the_slope == pytest.approx(0.5 * G * np.sin(phi) * duration**2, rel=1e-6)
@@ -287,7 +287,7 @@ def test_a_plate_on_a_slope_steeper_than_its_friction_angle_slides_with_g_sin_mi
         model, _, down = plate_on_slope(20.0, mu, 6.0, FibrousShell(presets.g986_stack()))
     else:
         model, _, down = plate_on_slope(20.0, mu)
-    run = CentralDifference(duration=duration, progress=False).solve(model)
+    run = CentralDifference(duration=duration, progress=False, kinetic_bound=None).solve(model)
     assert run.converged
     expected = 0.5 * G * (np.sin(phi) - mu * np.cos(phi)) * duration**2
     assert run.displacements.mean(axis=0) @ down == pytest.approx(expected, rel=0.01)
@@ -304,7 +304,7 @@ def test_a_plate_on_a_slope_below_its_friction_angle_sticks():
 
     phi, duration = np.radians(10.0), 0.004
     model, _, down = plate_on_slope(10.0, 0.3)
-    run = CentralDifference(duration=duration, progress=False).solve(model)
+    run = CentralDifference(duration=duration, progress=False, kinetic_bound=None).solve(model)
     assert run.converged
     free_slide = 0.5 * G * np.sin(phi) * duration**2
     assert abs(run.displacements.mean(axis=0) @ down) < 1e-5 * free_slide
@@ -336,7 +336,7 @@ def test_friction_dissipation_closes_the_energy_balance_of_a_sliding_plate():
     phi, mu = np.radians(20.0), 0.2
     model, _, down = plate_on_slope(20.0, mu)
     compiled = model.compile()
-    run = CentralDifference(duration=0.004, progress=False).solve(compiled)
+    run = CentralDifference(duration=0.004, progress=False, kinetic_bound=None).solve(compiled)
     e = {k: v[-1] for k, v in run.energies.items()}
     assert e["friction"] > 0.0
     # The solver's own balance |KE + U + D_f - W| over the largest energy, at every 10th
@@ -442,7 +442,7 @@ def test_contact_and_friction_forces_turn_with_a_rigid_rotation_of_model_and_too
         turned.add(model.blocks[0].element)
         turned.contact(RigidPlane((0.0, 0.0, 0.0), turn @ normal), friction=0.2)
         turned.gravity(turn @ [0.0, 0.0, -G])
-        solver = CentralDifference(duration=0.0005, dt=2e-7, progress=False)
+        solver = CentralDifference(duration=0.0005, dt=2e-7, progress=False, kinetic_bound=None)
         runs.append(solver.solve(turned))
     plain, rotated = runs
     forces = plain.tool_forces
@@ -474,7 +474,7 @@ def test_the_work_of_a_moving_tool_enters_the_explicit_energy_balance():
     model.contact(floor)
     model.gravity((0.0, 0.0, -G))
     compiled = model.compile()
-    run = CentralDifference(duration=0.004, progress=False).solve(compiled)
+    run = CentralDifference(duration=0.004, progress=False, kinetic_bound=None).solve(compiled)
     assert run.converged
     assert run.info["energy_balance_error"] < 1e-2
     final = compiled.initial_state()
@@ -505,7 +505,7 @@ def test_with_a_moving_tool_the_internal_energy_is_the_strain_energy_and_its_wor
     plane = RigidPlane((0, 0, -0.5 * thickness), (0, 0, 1), motion=(0, 0, lift), amplitude="smooth")
     model.contact(plane, nodes=tip)
     compiled = model.compile()
-    run = CentralDifference(duration=0.002, progress=False).solve(compiled)
+    run = CentralDifference(duration=0.002, progress=False, kinetic_bound=None).solve(compiled)
     assert run.converged
     final = compiled.initial_state()
     final.positions, final.directors = run.positions, run.frames[-1].directors
