@@ -29,6 +29,7 @@ from femcore.state import State
 from femcore.topology import check_triangles, nodal_normals
 
 if TYPE_CHECKING:
+    from femcore.loads import Amplitude
     from femcore.model import BlockEntry, Model
 
 __all__ = ["CompiledModel"]
@@ -425,28 +426,48 @@ class CompiledModel(CompiledTangent):
         contact), as phrases (femcore.diagnostics.interaction_notes)."""
         return interaction_notes(self)
 
-    def external_load(self, tau: float, quasi_static: bool = False):
-        """External nodal forces (n, 3) and moments (n, 3) at progress tau (dead loads)."""
+    def external_load(self, tau: float, quasi_static: bool = False, user: bool | None = None):
+        """External nodal forces (n, 3) and moments (n, 3) at progress tau (dead loads).
+
+        ``user``: None, every load; True, only those with a user amplitude; False, only those
+        with a named one (Static ramps the two differently: solvers.static.Static.loads)."""
         force = np.zeros((self.n_nodes, 3))
         moment = np.zeros((self.n_nodes, 3))
         for kind, amplitude, values in self._load_terms:
+            if user is not None and (amplitude.name == "user") != user:
+                continue
             factor = evaluate(amplitude, tau, quasi_static)
             if kind == "force":
                 force += factor * values
             else:
                 moment += factor * values
         for (amplitude, _), weight in zip(self._gravity_terms, self._gravity_forces):
+            if user is not None and (amplitude.name == "user") != user:
+                continue
             force += evaluate(amplitude, tau, quasi_static) * weight
         if self._unloaded.size:
             force[self._unloaded] = 0.0
         return force, moment
 
-    def prescribed_displacement(self, tau: float, quasi_static: bool = False) -> np.ndarray:
-        """Imposed displacements (n, 3) at progress tau (zero where not prescribed)."""
+    def prescribed_displacement(
+        self, tau: float, quasi_static: bool = False, user: bool | None = None
+    ) -> np.ndarray:
+        """Imposed displacements (n, 3) at progress tau (zero where not prescribed);
+        ``user`` as in ``external_load``."""
         displacement = np.zeros((self.n_nodes, 3))
         for amplitude, values in self._prescribed_terms:
+            if user is not None and (amplitude.name == "user") != user:
+                continue
             displacement += evaluate(amplitude, tau, quasi_static) * values
         return displacement
+
+    def user_amplitudes(self) -> list[Amplitude]:
+        """The amplitudes of the loads, gravities and prescribed displacements that are user
+        callables (``femcore.loads.amplitude_of``), in that order."""
+        amplitudes = [term[1] for term in self._load_terms]
+        amplitudes += [term[0] for term in self._gravity_terms]
+        amplitudes += [term[0] for term in self._prescribed_terms]
+        return [amplitude for amplitude in amplitudes if amplitude.name == "user"]
 
     @property
     def has_prescribed(self) -> bool:

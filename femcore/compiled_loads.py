@@ -77,9 +77,17 @@ def load_terms(
         column = 0 if record.kind == "force" else 3
         lacking = ~active[record.nodes, column]
         if lacking.any():
-            need = "any DOF" if record.kind == "force" else "rotational DOFs"
+            node = record.nodes[lacking][0]
+            if record.kind == "force":
+                # Every element gives its nodes translations: a node without is one no cell
+                # of an element block uses (a mesh's cells restricted to one part).
+                raise ValueError(
+                    f"force on node {node}, which no element uses: it carries no DOF; "
+                    "expected a node of a cell of an element block"
+                )
             raise ValueError(
-                f"{record.kind} on node {record.nodes[lacking][0]}, which has no {need}"
+                f"moment on node {node}, which has no rotational DOFs; expected a node of "
+                "an element with rotational DOFs"
             )
         values = np.zeros((len(active), 3))
         values[record.nodes] = record.vector

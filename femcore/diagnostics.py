@@ -10,7 +10,7 @@ import numpy as np
 if TYPE_CHECKING:
     from femcore.compiled import CompiledModel
 
-__all__ = ["RIGID_MOTIONS", "interaction_notes", "unheld_rigid_motions"]
+__all__ = ["RIGID_MOTIONS", "interaction_notes", "unbalanced_translations", "unheld_rigid_motions"]
 
 #: Names of the six elementary rigid motions (rotations about axes through the centroid).
 RIGID_MOTIONS: tuple[str, ...] = (
@@ -125,6 +125,46 @@ def unheld_rigid_motions(model: CompiledModel, loaded_only: bool = True) -> list
         "a rigid motion combining "
         + ", ".join(name for name, weight in zip(names, np.abs(pushed[0] * scale)) if weight > 1e-6)
     ]
+
+
+def unbalanced_translations(model: CompiledModel) -> list[str]:
+    """The rigid translations no support holds along which the full dead loads have a net
+    force: no equilibrium exists at any shape, since a dead load's resultant does not turn
+    with the body (a free body under its weight). A model whose loaded free motions are
+    rotations only (a strip held at a pin-like edge, a cable pinned at one end) is a mechanism
+    at its starting shape but may hang in equilibrium a finite motion away.
+
+    Returns
+    -------
+    list of str
+        The direction of the net force's part along the free translations ("translation
+        along z", or "translation along (0.6, 0, 0.8)"); empty when there is none (or an
+        interaction does not say what it holds, as for ``unheld_rigid_motions``).
+    """
+    contact_rows = _interaction_rows(model)
+    if contact_rows is None:
+        return []
+    body = model.dofs.active[:, 0].copy()
+    body[model.rigid_nodes] = False
+    held_columns = model.dofs.constrained[body, :3].any(axis=0)
+    rows = [np.eye(3)[held_columns], contact_rows[1]]
+    held = np.concatenate(rows) if any(len(r) for r in rows) else np.zeros((0, 3))
+    if len(held):
+        _, singular, vt = np.linalg.svd(held, full_matrices=True)
+        rank = int(np.sum(singular > 1e-9 * max(float(singular.max()), 1.0)))
+        free = vt[rank:]
+    else:
+        free = np.eye(3)
+    force, _ = model.external_load(1.0, quasi_static=True)
+    total = force[body].sum(axis=0)
+    along = free.T @ (free @ total)
+    magnitude = float(np.abs(force[body]).sum())
+    if float(np.linalg.norm(along)) <= 1e-9 * max(magnitude, 1e-300):
+        return []
+    axes = np.flatnonzero(np.abs(along) > 1e-9 * float(np.abs(along).max()))
+    if len(axes) == 1:
+        return [RIGID_MOTIONS[int(axes[0])]]
+    return [_described(np.concatenate([along, np.zeros(3)]), np.zeros(3))]
 
 
 def _described(motion: np.ndarray, centre: np.ndarray) -> str:

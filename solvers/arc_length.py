@@ -30,6 +30,7 @@ from solvers.newton import IncrementFailed, at_round_off_floor, mechanism, newto
 from solvers.stability import buckling_mode
 
 if TYPE_CHECKING:
+    from femcore.model import CompiledModel
     from solvers.static import StaticRun
 
 __all__ = [
@@ -44,6 +45,7 @@ __all__ = [
     "Motion",
     "arc_length_path",
     "check_arc_options",
+    "check_proportional",
     "constraint_root",
     "descend",
     "stalled",
@@ -137,6 +139,35 @@ def check_arc_options(
                 "their defaults"
             )
     return iterations, chords, str(at_limit)
+
+
+#: The load factors at which a user amplitude a(lambda) is checked against lambda a(1) on the
+#: arc-length path (``check_proportional``), and the relative tolerance of that check.
+PROPORTIONAL_SAMPLES = np.linspace(0.0, 1.0, 17)
+PROPORTIONAL_TOLERANCE = 1e-9
+
+
+def check_proportional(model: CompiledModel) -> None:
+    """ValueError when a load or a prescribed displacement has a user amplitude a(lambda) that
+    is not lambda a(1) (checked at PROPORTIONAL_SAMPLES): the arc length makes the load factor
+    an unknown of loads F = lambda F_ref, one pattern (docs/theory.md §6.6), which such an
+    amplitude is not."""
+    for amplitude in model.user_amplitudes():
+        function = amplitude.quasi_static
+        full = float(function(1.0))
+        values = np.array([float(function(lam)) for lam in PROPORTIONAL_SAMPLES])
+        expected = PROPORTIONAL_SAMPLES * full
+        scale = max(abs(full), float(np.abs(values).max(initial=0.0)), 1e-300)
+        worst = int(np.argmax(np.abs(values - expected)))
+        if abs(values[worst] - expected[worst]) > PROPORTIONAL_TOLERANCE * scale:
+            name = getattr(function, "__name__", repr(function))
+            raise ValueError(
+                f"the user amplitude {name} gives a({PROPORTIONAL_SAMPLES[worst]:g}) = "
+                f"{values[worst]:.6g}, not lambda a(1) = {expected[worst]:.6g}: "
+                "path='arc_length' scales one load pattern by an unknown load factor "
+                "(F = lambda F_ref), so it cannot follow an amplitude's shape; expected "
+                "path='load', which follows a(lambda), or DynamicRelaxation"
+            )
 
 
 class Motion:

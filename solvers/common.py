@@ -10,6 +10,7 @@ from types import FrameType
 import numpy as np
 
 from femcore.checks import as_number, check_positive
+from femcore.diagnostics import unbalanced_translations
 from femcore.model import CompiledModel, Model
 from femcore.results import Frame, Result
 from femcore.state import State
@@ -77,22 +78,41 @@ class StepTooLong(IncrementFailed):
         self.turn = turn
 
 
-def check_held(model: CompiledModel) -> None:
+def check_held(model: CompiledModel, swings: bool = False) -> None:
     """Raise ValueError when the loads push the model along a rigid motion that no support
-    holds: no equilibrium exists, and a quasi-static solver would only report a residual that
-    never falls (CompiledModel.unheld_rigid_motions). A model held by contact is refused for
-    any rigid motion left free, loaded or not: a body on a frictionless tool slides along it
-    at the first sideways force (the tools' curvature, the round-off of the contact forces),
-    and its tangent is singular along the slide."""
+    holds (CompiledModel.unheld_rigid_motions; a check at the starting shape, linear).
+
+    Where the loads have a net force along a translation nothing holds, no equilibrium exists
+    at any shape (femcore.diagnostics.unbalanced_translations), and a quasi-static solver would
+    only report a residual that never falls. Where the loaded free motions are rotations (a
+    strip held at an edge in translations only, a cable pinned at one end, under gravity), the
+    model is a mechanism at its starting shape, where Static cannot start (its tangent is
+    singular along them), but it may hang in equilibrium a finite motion away: refused with
+    ``swings=False`` (Static), let through with ``swings=True`` (DynamicRelaxation, whose
+    damped motion swings it down there). A model held by contact is refused for any rigid
+    motion left free, loaded or not: a body on a frictionless tool slides along it at the
+    first sideways force (the tools' curvature, the round-off of the contact forces), and its
+    tangent is singular along the slide."""
     motions = model.unheld_rigid_motions()
     notes = model.interaction_notes()
+    noted = "".join(f"; {note}" for note in notes)
     if motions:
-        raise ValueError(
-            f"the loads push the model along rigid motions that nothing holds "
-            f"({'; '.join(motions)}){''.join(f'; {note}' for note in notes)}: no equilibrium "
-            "exists. Fix or prescribe DOFs that hold them (model.fix, model.displace), or "
-            "balance the loads"
-        )
+        pushed = unbalanced_translations(model)
+        if pushed:
+            raise ValueError(
+                f"the loads have a net force along rigid motions that nothing holds "
+                f"({'; '.join(pushed)}){noted}: no equilibrium exists at any shape. Fix or "
+                "prescribe DOFs that hold them (model.fix, model.displace), or balance the loads"
+            )
+        if not swings:
+            raise ValueError(
+                f"the loads turn the model along rigid motions that nothing holds at its "
+                f"starting shape ({'; '.join(motions)}){noted}: it is a mechanism there, and "
+                "Static cannot start from it (its tangent stiffness is singular along them). An "
+                "equilibrium may lie a finite motion away (a model hanging from a pin): reach "
+                "it with DynamicRelaxation, or fix or prescribe DOFs that hold those motions "
+                "(model.fix, model.displace)"
+            )
     if notes:
         motions = model.unheld_rigid_motions(loaded_only=False)
         if motions:

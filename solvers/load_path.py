@@ -16,11 +16,41 @@ from solvers.penalty_start import newton_with_soft_start
 if TYPE_CHECKING:
     from solvers.static import Static, StaticRun
 
-__all__ = ["MOST_HALVINGS", "load_path", "turn_fraction"]
+__all__ = ["LOAD_DEFAULTS", "MOST_HALVINGS", "check_load_options", "load_path", "turn_fraction"]
 
 #: The smallest share a cut by ``first_turn`` keeps, 1/2^MOST_HALVINGS of the increment: a
 #: step of less is no step at the load factor's rounding.
 MOST_HALVINGS = 30
+
+
+#: The load path's own options of ``Static`` and their defaults: the arc-length path never
+#: reads them (it has its own predictor, solvers.arc_length.arc_predictor), except after a
+#: limit point with at_limit="jump", where load steps go on.
+LOAD_DEFAULTS = {
+    "predictor": False,
+    "first_turn": None,
+    "ply_penalty_start": None,
+    "follow_tools": False,
+    "follow_tools_after_cut": False,
+}
+
+
+def check_load_options(path: str, at_limit: str, given: dict) -> None:
+    """ValueError for any of the load path's own options (LOAD_DEFAULTS; ``given``: name ->
+    value as Static holds it) other than its default with path="arc_length" and
+    at_limit="follow", which would ignore it."""
+    if path != "arc_length" or at_limit != "follow":
+        return
+    ignored = [
+        f"{name}={given[name]!r}" for name in LOAD_DEFAULTS if given[name] != LOAD_DEFAULTS[name]
+    ]
+    if ignored:
+        raise ValueError(
+            f"{', '.join(ignored)} given with path='arc_length': the load path's options, "
+            "which the arc-length path does not use (it has its own predictor); expected "
+            "path='load' with them, at_limit='jump' (load steps after a limit point), or "
+            "their defaults"
+        )
 
 
 def turn_fraction(turn: float, limit: float) -> float:

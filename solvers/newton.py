@@ -605,7 +605,8 @@ class Residual:
     model : the compiled model. f_ext, m_ext : (n, 3) dead forces N and moments N mm.
     imposed : (n, 3) prescribed displacements, mm. counts : the evaluation counts of the run
     (its "residual" entry counts the internal-force evaluations). dashpots : the viscous
-    stabilisation of the increment (solvers.stabilisation), or None.
+    stabilisation of the increment (solvers.stabilisation), or None. floor : the least F_ref,
+    N (StaticRun.reference_floor).
     """
 
     def __init__(
@@ -616,6 +617,7 @@ class Residual:
         imposed,
         counts=None,
         dashpots: Dashpots | None = None,
+        floor: float = 1e-300,
     ):
         self.model, self.f_ext, self.m_ext = model, f_ext, m_ext
         self.dashpots = dashpots
@@ -623,7 +625,7 @@ class Residual:
         self.target = model.reference_positions + imposed if model.has_prescribed else None
         # One scale for both: a moment M counts as the force M / (element size), so that a
         # pure-moment load (zero forces at equilibrium) has a force reference too.
-        self.test = Equilibrium(f_ext, m_ext, model.element_size, floor=1e-300)
+        self.test = Equilibrium(f_ext, m_ext, model.element_size, floor=floor)
 
     def remaining(self, state: State) -> np.ndarray:
         """(n, 5) prescribed motion not yet applied."""

@@ -194,8 +194,10 @@ class DynamicRelaxation:
         Raises
         ------
         ValueError
-            When ``model`` is not a Model, or the loads push the model along a rigid motion
-            that no support holds (no equilibrium exists; the message names the motion), or
+            When ``model`` is not a Model, or the loads have a net force along a rigid
+            translation that no support holds (no equilibrium exists at any shape; the message
+            names it; loaded free rotations are let through: the damped motion swings a model
+            hanging from a pin down to its equilibrium, solvers.common.check_held), or
             a model held by frictionless contact leaves a rigid motion free (a slide along
             the tool; the message names it).
         ConvergenceError
@@ -219,7 +221,7 @@ class DynamicRelaxation:
             message names the file and what was kept).
         """
         compiled = compiled_model(model, "DynamicRelaxation")
-        check_held(compiled)
+        check_held(compiled, swings=True)
         saved_at = checkpoint_path(checkpoint)
         check_outputs(compiled.mesh, None, saved_at)
         started = time.perf_counter()

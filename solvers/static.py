@@ -33,7 +33,12 @@ import numpy as np
 from femcore.memory import STATIC_BYTES_PER_CELL, check_model_memory
 from femcore.model import CompiledModel, Model
 from femcore.results import Result
-from solvers.arc_length import DESIRED_ITERATIONS, arc_length_path, check_arc_options
+from solvers.arc_length import (
+    DESIRED_ITERATIONS,
+    arc_length_path,
+    check_arc_options,
+    check_proportional,
+)
 from solvers.augmentation import augment_contacts
 from solvers.blas_threads import one_blas_thread
 from solvers.common import (
@@ -47,7 +52,7 @@ from solvers.common import (
     compiled_model,
 )
 from solvers.interrupts import check_outputs, keeps_writes
-from solvers.load_path import load_path
+from solvers.load_path import LOAD_DEFAULTS, check_load_options, load_path
 from solvers.output import output_path
 from solvers.stabilisation import check_stabilise, report_stabilisation
 from solvers.static_run import StaticRun
@@ -322,6 +327,11 @@ class Static:
         self.follow_tools_after_cut = check_flag(follow_tools_after_cut, "follow_tools_after_cut")
         self.seek_stable = check_flag(seek_stable, "seek_stable")
         self.step_loads_first = check_flag(step_loads_first, "step_loads_first")
+        check_load_options(
+            path,
+            self.at_limit,
+            {name: getattr(self, name) for name in LOAD_DEFAULTS},
+        )
         self.progress = check_progress(progress)
         self.output = None if output is None else output_path(output, ".pvd", "output")
 
@@ -347,7 +357,10 @@ class Static:
         ------
         ValueError
             When ``model`` is not a Model, or the loads push the model along a rigid motion
-            that no support holds (no equilibrium exists; the message names the motion), or
+            that no support holds at its starting shape (a net force along a translation: no
+            equilibrium exists; loaded rotations: a mechanism there, whose equilibrium may lie a
+            finite motion away, for DynamicRelaxation; the message names the motion), or a
+            load with a user amplitude that is not proportional on the arc-length path, or
             a model held by frictionless contact leaves a rigid motion free (a slide along
             the tool; the message names it), or the solve would need more memory than is
             available (femcore.memory, about 30 kB per element cell at least).
@@ -373,6 +386,8 @@ class Static:
         # The tangent and its factorisation dwarf the model: refuse what cannot fit, up front.
         n_cells = sum(len(block.cell_ids) for block in compiled.blocks)
         check_model_memory(n_cells, STATIC_BYTES_PER_CELL, "a static solve")
+        if self.path == "arc_length":
+            check_proportional(compiled)
         run = StaticRun(self, compiled)
         if self.path != "load" and augment_contacts(compiled, run.state)[1] is not None:
             raise ValueError(
@@ -394,19 +409,35 @@ class Static:
 
     # ------------------------------------------------------------------ loads
     def loads(self, model: CompiledModel, load_factor: float):
-        """Dead forces, moments and imposed displacements (n, 3) at a load factor: all ramped
-        together, or with ``step_loads_first`` the "step" loads over [0, 1] (displacements 0),
-        then the rest over [1, 2]."""
-        force, moment = model.external_load(1.0, quasi_static=True)
-        imposed = model.prescribed_displacement(1.0, quasi_static=True)
+        """Dead forces, moments and imposed displacements (n, 3) at a load factor lambda.
+
+        Those with a named amplitude are ramped together, lambda times their full value, or with
+        ``step_loads_first`` the "step" loads over [0, 1] (displacements 0) and the rest over
+        [1, 2]; those with a user amplitude follow it, a(lambda) times their full value (with
+        ``step_loads_first``: a(lambda - 1) over [1, 2], a(0) before). The solver takes
+        differences of these, never lambda times the loads at 1 (docs/theory.md §6.5)."""
+        force, moment = model.external_load(1.0, quasi_static=True, user=False)
+        imposed = model.prescribed_displacement(1.0, quasi_static=True, user=False)
         if not self.step_loads_first:
-            return load_factor * force, load_factor * moment, load_factor * imposed
+            loads = load_factor * force, load_factor * moment, load_factor * imposed
+            return self._with_user_amplitudes(model, loads, load_factor)
         # A "step" amplitude is 1 for any positive progress, a ramped one is proportional.
-        step_force, step_moment = model.external_load(1e-300, quasi_static=True)
+        step_force, step_moment = model.external_load(1e-300, quasi_static=True, user=False)
         first = min(load_factor, 1.0)
         then = max(load_factor - 1.0, 0.0)
-        return (
+        loads = (
             first * step_force + then * (force - step_force),
             first * step_moment + then * (moment - step_moment),
             then * imposed,
         )
+        return self._with_user_amplitudes(model, loads, then)
+
+    @staticmethod
+    def _with_user_amplitudes(model: CompiledModel, loads: tuple, progress: float) -> tuple:
+        """``loads`` (forces, moments, displacements) plus those with a user amplitude at
+        ``progress`` (as they are where there are none: the same bits)."""
+        if not model.user_amplitudes():
+            return loads
+        force, moment = model.external_load(progress, quasi_static=True, user=True)
+        imposed = model.prescribed_displacement(progress, quasi_static=True, user=True)
+        return loads[0] + force, loads[1] + moment, loads[2] + imposed

@@ -58,6 +58,11 @@ class StaticRun:
         self.started = time.perf_counter()
         self.state = model.initial_state()
         self.reached = 0.0
+        # The least force reference of the convergence test (solvers.convergence): 1e-300,
+        # or with user amplitudes the loads and reactions of the last converged frame, since
+        # such an amplitude may bring the loads back to zero (a load then unload), where the
+        # reference of the level alone would judge round-off against round-off.
+        self.reference_floor = 1e-300
         # Whether the load path is in the first increment of a phase (solvers.load_path;
         # solvers/newton.py ``opens_on_ramp``).
         self.opening = False
@@ -149,7 +154,9 @@ class StaticRun:
     # ------------------------------------------------------------------ model evaluations
     def equilibrium(self, load_factor: float) -> Residual:
         force, moment, imposed = self.solver.loads(self.model, load_factor)
-        return Residual(self.model, force, moment, imposed, self.counts, self.dashpots)
+        return Residual(
+            self.model, force, moment, imposed, self.counts, self.dashpots, self.reference_floor
+        )
 
     def damp(self, load_factor: float | None) -> None:
         """Stabilised runs: the dashpots of the increment from the last converged state to
@@ -351,6 +358,15 @@ class StaticRun:
             )
         f_ext, m_ext, _ = self.solver.loads(model, self.reached)
         reactions, reaction_moments = equilibrium_reactions(model, state, f_ext, m_ext)
+        if model.user_amplitudes():
+            size = model.element_size
+            self.reference_floor = max(
+                1e-300,
+                float(np.linalg.norm(f_ext)),
+                float(np.linalg.norm(reactions)),
+                float(np.linalg.norm(m_ext)) / size,
+                float(np.linalg.norm(reaction_moments)) / size,
+            )
         self.keep(make_frame(model, state, reactions, reaction_moments))
         self.progress(
             f"increment {len(self.frames) - 1}: load factor {self.reached:.4g} converged in "

@@ -110,6 +110,20 @@ def test_a_moment_on_a_node_without_rotations_is_refused():
         model.compile()
 
 
+def test_a_force_on_a_node_no_element_uses_is_refused_in_plain_words():
+    # The cable spans segments 0-2 of the bar: node 4 belongs to no cell of a block (as a
+    # mesh's cells restricted to one part leave the others' nodes).
+    model = Model(bar())
+    model.add(Cable(100.0, 1e-9), cells=[0, 1, 2])
+    model.fix([0])
+    model.force([4], (0.0, 0.0, -1.0))
+    with pytest.raises(
+        ValueError, match="force on node 4, which no element uses: it carries no DOF"
+    ) as refused:
+        model.compile()
+    assert "no any" not in str(refused.value)
+
+
 @pytest.mark.parametrize("solver", [DynamicRelaxation(), CentralDifference(duration=1.0)])
 def test_a_model_without_elements_is_refused(solver):
     with pytest.raises(ValueError, match="no elements"):

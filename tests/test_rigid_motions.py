@@ -1,15 +1,18 @@
-"""A model that its supports do not hold against its loads has no equilibrium: the quasi-static
-solvers say so before iterating, naming the rigid motion (CompiledModel.unheld_rigid_motions).
+"""A model that its supports do not hold against its loads: the quasi-static solvers say so before
+iterating, naming the rigid motion (CompiledModel.unheld_rigid_motions). A net force along a
+free translation has no equilibrium at any shape; loaded free rotations make a mechanism at
+the starting shape, which Static cannot start from but DynamicRelaxation swings down from.
 
 Reference: statics. A free body is in equilibrium only if its loads do no work along any of
 its six rigid motions; supports remove the motions whose restriction to the held DOFs is not
-zero."""
+zero. A dead load's resultant does not turn with the body; its moment about a pin does."""
 
+import numpy as np
 import pytest
 
-from elements import FibrousShell
+from elements import Cable, FibrousShell, MindlinShell
 from femcore import Mesh, Model
-from materials import presets
+from materials import ElasticShell, presets
 from solvers import DynamicRelaxation, Static
 
 
@@ -27,6 +30,48 @@ def test_an_unsupported_strip_under_gravity_is_refused_with_its_free_motion(solv
     model.gravity((0.0, 0.0, -9810.0))
     with pytest.raises(ValueError, match="translation along z"):
         solver.solve(model)
+
+
+@pytest.mark.parametrize("solver", [Static(), DynamicRelaxation()], ids=["static", "relaxation"])
+def test_a_free_body_under_a_net_force_has_no_equilibrium_at_any_shape(solver):
+    model = strip()
+    model.gravity((0.0, 0.0, -9810.0))
+    with pytest.raises(ValueError, match="net force.*no equilibrium exists at any shape"):
+        solver.solve(model)
+
+
+def test_a_strip_hanging_from_its_edge_is_a_mechanism_static_cannot_start_from():
+    # Held at x = 0 in translations only, it turns about that edge under its weight: no
+    # equilibrium at the flat start, but one a quarter turn down (hanging).
+    model = Model(Mesh.rectangle(100.0, 20.0, nx=4, ny=1))
+    model.add(MindlinShell(ElasticShell(1e4, 0.3, 1.0, 1e-9)))
+    model.fix("left", ["ux", "uy", "uz"])
+    model.gravity((0.0, 0.0, -9810.0))
+    with pytest.raises(ValueError, match="mechanism there, and Static cannot start") as refused:
+        Static(progress=False).solve(model)
+    assert "no equilibrium exists" not in str(refused.value)
+    assert "DynamicRelaxation" in str(refused.value)
+
+
+def test_dynamic_relaxation_lets_a_cable_pinned_at_one_end_hang_straight_down():
+    # A horizontal cable pinned at x = 0 swings down under its weight W = m g L. Closed form of
+    # the hanging cable: straight down, the pin's reaction W, its stretch W L / (2 EA) (the
+    # tension falls linearly from W at the pin). EA / W = 1e3. Tolerances: the relaxation's
+    # residual 1e-4 of W leaves the end within 1e-3 L of the vertical and the reaction within
+    # 1e-3 of W; the stretch within 2 % (strain 1e-3, the cable's own geometric non-linearity).
+    length, mass_per_length, stiffness, g = 100.0, 1e-9, 1.0, 9810.0
+    model = Model(Mesh.line((0.0, 0.0, 0.0), (length, 0.0, 0.0), 4))
+    model.add(Cable(stiffness, mass_per_length))
+    model.fix([0])
+    model.gravity((0.0, 0.0, -g))
+    result = DynamicRelaxation(progress=False).solve(model)
+    weight = mass_per_length * length * g
+    end = result.frames[-1].positions[-1]
+    assert abs(end[0]) <= 1e-3 * length and end[1] == 0.0
+    stretch = -end[2] - length
+    assert stretch == pytest.approx(weight * length / (2.0 * stiffness), rel=0.02)
+    assert result.frames[-1].reactions[0] == pytest.approx([0.0, 0.0, weight], abs=1e-3 * weight)
+    assert np.all(np.diff(result.frames[-1].positions[:, 2]) < 0.0)  # hangs in order
 
 
 def test_the_held_motions_are_not_reported():
