@@ -3,9 +3,11 @@
 A record only describes; ``femcore.model.CompiledModel`` turns the records into nodal arrays once.
 Every load and prescribed displacement has an amplitude a(tau) of the step progress
 tau in [0, 1]: tau = t / duration in the explicit solver. The quasi-static solvers
-(dynamic relaxation, static) apply everything in equal load-factor increments tau = i / n and use
-the amplitude only to tell a suddenly applied load ("step") from a ramped one, because a
-quasi-static answer does not depend on how fast it was reached.
+(dynamic relaxation, static) apply everything in load-factor increments lambda = i / n; a named
+amplitude there only tells a suddenly applied load ("step") from a ramped one (linear in lambda),
+because a quasi-static answer does not depend on how fast it was reached, while a user callable
+is followed: a(lambda) at each load factor (Static's arc-length path refuses one that is not
+proportional, docs/theory.md §6.5).
 """
 
 from __future__ import annotations
@@ -113,7 +115,8 @@ class Amplitude:
     """How a load grows: ``dynamic(tau)`` in time, ``quasi_static(lam)`` over load increments.
 
     Named amplitudes ramp linearly over quasi-static increments ("step": full from the first
-    increment); a user callable is used as it is in both.
+    increment); a user callable is used as it is in both: a(tau) in time, a(lambda) at each
+    load factor of DynamicRelaxation and of Static's load path.
 
     Parameters
     ----------

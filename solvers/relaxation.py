@@ -39,7 +39,7 @@ from numpy.typing import ArrayLike
 
 from femcore.fingerprint import fingerprint
 from femcore.model import CompiledModel, Model
-from femcore.results import Result
+from femcore.results import Frame, Result
 from femcore.rotation import drop_along
 from femcore.state import State
 from solvers.augmentation import warn_penalty_only
@@ -301,7 +301,13 @@ class DynamicRelaxation:
                 # itself; numpy's overflow warnings on the way would only be noise.
                 with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
                     state, count, ratio, reactions, reaction_moments = self._relax(
-                        compiled, state, load_factor, masses, progress, increment
+                        compiled,
+                        state,
+                        load_factor,
+                        masses,
+                        progress,
+                        increment,
+                        _reference_floor(compiled, frames[-1]),
                     )
             except (ConvergenceError, DivergenceError, Interrupted) as error:
                 if isinstance(error, Interrupted):
@@ -360,8 +366,10 @@ class DynamicRelaxation:
         masses: RelaxationMasses,
         progress,
         increment,
+        floor: float = 0.0,
     ):
-        """Relax from ``state`` (left unchanged) to equilibrium at ``load_factor``.
+        """Relax from ``state`` (left unchanged) to equilibrium at ``load_factor``; ``floor``:
+        the least force reference (``_reference_floor``).
 
         Returns (the state at rest in equilibrium, iterations, residual ratio, reactions (n,3),
         reaction moments (n,3)).
@@ -382,7 +390,7 @@ class DynamicRelaxation:
         mass, inertia, dt = masses(state, inflate)
         inv_inertia = inverse_diagonal(inertia)
         estimated_at = 0
-        balance = _Balance(model, f_ext, m_ext, self.tol)
+        balance = _Balance(model, f_ext, m_ext, self.tol, floor)
 
         velocity = np.zeros_like(state.positions)
         omega = np.zeros_like(state.positions)
@@ -648,6 +656,23 @@ def _stall_message(model: CompiledModel, increment: int, solver, load_factor: fl
     )
 
 
+def _reference_floor(model: CompiledModel, last: Frame) -> float:
+    """The least force reference of an increment (N): 0 (none), or with user amplitudes the
+    loads and reactions of the last frame, since such an amplitude may bring the loads back to
+    zero (a load then unload), where the level's own reference would judge round-off against
+    round-off (docs/theory.md §6.5, "How the loads are ramped")."""
+    if not model.user_amplitudes():
+        return 0.0
+    f_ext, m_ext = model.external_load(last.time, quasi_static=True)
+    size = model.element_size
+    return max(
+        float(np.linalg.norm(f_ext)),
+        float(np.linalg.norm(last.reactions)),
+        float(np.linalg.norm(m_ext)) / size,
+        float(np.linalg.norm(last.reaction_moments)) / size,
+    )
+
+
 class _Balance:
     """Convergence and support reactions of one relaxed increment.
 
@@ -659,7 +684,14 @@ class _Balance:
     only with rotational DOFs, M_ref the largest of the three, no floor on F_ref).
     """
 
-    def __init__(self, model: CompiledModel, f_ext: np.ndarray, m_ext: np.ndarray, tol: float):
+    def __init__(
+        self,
+        model: CompiledModel,
+        f_ext: np.ndarray,
+        m_ext: np.ndarray,
+        tol: float,
+        floor: float = 0.0,
+    ):
         self.model, self.f_ext, self.m_ext, self.tol = model, f_ext, m_ext, tol
         rot = model.has_rotation
         self.any_rotation = bool(rot.any())
@@ -676,6 +708,7 @@ class _Balance:
             model.element_size,
             moments=self.any_rotation,
             moment_reference="largest",
+            floor=floor,
         )
 
     def judge(self, f_int, m_int, residual, moment) -> tuple[float, bool]:

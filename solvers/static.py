@@ -1,9 +1,13 @@
 """Static: Newton-Raphson on the free DOFs, along the load or along the arc length of the
 equilibrium path (docs/theory.md §6.5, §6.6).
 
-Loads and prescribed displacements are scaled by one load factor lambda, all of them (gravity
-and "step" loads included) ramped linearly with it, as a static step does: amplitudes shape
-time histories in dynamics only. Each converged increment gives one frame.
+Loads and prescribed displacements with a named amplitude are scaled by one load factor lambda,
+all of them (gravity and "step" loads included) ramped linearly with it, as a static step does:
+named amplitudes shape time histories in dynamics only. Those with a user amplitude a (a
+callable) follow it: a(lambda) times their full value at each load factor on the load path (a
+load then unload); the arc-length path, which scales one load pattern, refuses one that is not
+proportional (docs/theory.md §6.5, "How the loads are ramped"). Each converged increment gives
+one frame.
 
 Two ways along the path (``path``):
 
@@ -110,7 +114,9 @@ class Static:
         and ``info["augmented_slip"]`` (mm).
     path : "load" (default) or "arc_length" (module docstring). The arc-length path's own
         options (max_increments, arc_iterations, arc_chords, at_limit) given other than their
-        defaults with path="load" are refused (they would be ignored).
+        defaults with path="load" are refused (they would be ignored), and so are the load
+        path's (predictor, first_turn, ply_penalty_start, follow_tools,
+        follow_tools_after_cut) with path="arc_length" and at_limit="follow".
     max_increments : arc-length path: a phase's most increments (default 20 x increments + 20).
     arc_iterations : arc-length path: the iterations Crisfield's step rule aims an increment
         at (default 5: the next length l sqrt(5 / iterations); docs/theory.md §6.6).
