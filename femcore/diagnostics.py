@@ -10,7 +10,13 @@ import numpy as np
 if TYPE_CHECKING:
     from femcore.compiled import CompiledModel
 
-__all__ = ["RIGID_MOTIONS", "interaction_notes", "unbalanced_translations", "unheld_rigid_motions"]
+__all__ = [
+    "RIGID_MOTIONS",
+    "USER_LEVELS",
+    "interaction_notes",
+    "unbalanced_translations",
+    "unheld_rigid_motions",
+]
 
 #: Names of the six elementary rigid motions (rotations about axes through the centroid).
 RIGID_MOTIONS: tuple[str, ...] = (
@@ -32,11 +38,12 @@ def unheld_rigid_motions(model: CompiledModel, loaded_only: bool = True) -> list
     The six rigid motions (translations along x, y, z; rotations about the axes through
     the centroid, directors turning with the body) restricted to the fixed and
     prescribed DOFs span what the supports hold; a motion in the rest does work with
-    the loads (forces and moments at load factor 1) unless they are self-balanced along
-    it. An interaction holds what its ``held_directions`` state (a frictionless tool: the
-    motion along its normal at the contact nodes, so that a translation along a plane or a
-    turn about a cylinder's axis stays free); a model with an interaction that does not say
-    is not checked.
+    the loads (forces and moments at load factor 1, and at USER_LEVELS too where some have a
+    user amplitude, which may vanish at 1) unless they are self-balanced along it. An
+    interaction holds what its ``held_directions`` state (a frictionless tool: the motion
+    along its normal at the contact nodes, so that a translation along a plane or a turn
+    about a cylinder's axis stays free); a model with an interaction that does not say is not
+    checked.
 
     Returns
     -------
@@ -107,12 +114,14 @@ def unheld_rigid_motions(model: CompiledModel, loaded_only: bool = True) -> list
         rest, weights, _ = np.linalg.svd(scaled.T, full_matrices=False)
         others = rest[:, weights > 1e-6].T / scale  # (the rows of free_motions are unit)
         return named + [_described(q, centre) for q in others]
-    force, moment = model.external_load(1.0, quasi_static=True)
-    load = np.concatenate([force, moment], axis=1)
-    work = np.einsum("kc,cnj,nj->k", free_motions, motions, load)
-    size = max(float(np.linalg.norm(force)) * length + float(np.linalg.norm(moment)), 1e-300)
-    pushed = free_motions[np.abs(work) > 1e-9 * size]
-    if not len(pushed):
+    for force, moment in _load_levels(model):
+        load = np.concatenate([force, moment], axis=1)
+        work = np.einsum("kc,cnj,nj->k", free_motions, motions, load)
+        size = max(float(np.linalg.norm(force)) * length + float(np.linalg.norm(moment)), 1e-300)
+        pushed = free_motions[np.abs(work) > 1e-9 * size]
+        if len(pushed):
+            break
+    else:
         return []
     names = list(RIGID_MOTIONS)
     column_free = np.abs(held).max(axis=0, initial=0.0) == 0.0
@@ -155,16 +164,29 @@ def unbalanced_translations(model: CompiledModel) -> list[str]:
         free = vt[rank:]
     else:
         free = np.eye(3)
-    force, _ = model.external_load(1.0, quasi_static=True)
-    total = force[body].sum(axis=0)
-    along = free.T @ (free @ total)
-    magnitude = float(np.abs(force[body]).sum())
-    if float(np.linalg.norm(along)) <= 1e-9 * max(magnitude, 1e-300):
+    for force, _ in _load_levels(model):
+        along = free.T @ (free @ force[body].sum(axis=0))
+        magnitude = float(np.abs(force[body]).sum())
+        if float(np.linalg.norm(along)) > 1e-9 * max(magnitude, 1e-300):
+            break
+    else:
         return []
     axes = np.flatnonzero(np.abs(along) > 1e-9 * float(np.abs(along).max()))
     if len(axes) == 1:
         return [RIGID_MOTIONS[int(axes[0])]]
     return [_described(np.concatenate([along, np.zeros(3)]), np.zeros(3))]
+
+
+#: The load factors besides 1 at which the loads are checked when some have a user amplitude,
+#: which may vanish at 1 (a load then unload).
+USER_LEVELS = (0.25, 0.5, 0.75)
+
+
+def _load_levels(model: CompiledModel) -> list[tuple[np.ndarray, np.ndarray]]:
+    """The dead loads (forces (n, 3), moments (n, 3)) the checks look at: those at load factor
+    1, and with user amplitudes those at USER_LEVELS too."""
+    levels = [1.0] + (list(USER_LEVELS) if model.user_amplitudes() else [])
+    return [model.external_load(level, quasi_static=True) for level in levels]
 
 
 def _described(motion: np.ndarray, centre: np.ndarray) -> str:

@@ -40,6 +40,14 @@ def test_a_free_body_under_a_net_force_has_no_equilibrium_at_any_shape(solver):
         solver.solve(model)
 
 
+def test_a_load_that_a_user_amplitude_takes_off_again_is_checked_on_the_way():
+    # sin(pi lambda) is 0 at lambda = 1, where the check looked alone: the strip falls before.
+    model = strip()
+    model.gravity((0.0, 0.0, -9810.0), amplitude=lambda lam: np.sin(np.pi * lam))
+    with pytest.raises(ValueError, match="translation along z.*no equilibrium exists"):
+        Static(progress=False).solve(model)
+
+
 def test_a_strip_hanging_from_its_edge_is_a_mechanism_static_cannot_start_from():
     # Held at x = 0 in translations only, it turns about that edge under its weight: no
     # equilibrium at the flat start, but one a quarter turn down (hanging).
