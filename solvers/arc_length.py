@@ -22,6 +22,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 import scipy.sparse as sp
 
+from femcore.compiled_loads import evaluate
 from femcore.dofs import N_COLUMNS
 from femcore.state import State
 from solvers.common import check_integer, check_non_negative
@@ -154,8 +155,9 @@ def check_proportional(model: CompiledModel) -> None:
     amplitude is not."""
     for amplitude in model.user_amplitudes():
         function = amplitude.quasi_static
-        full = float(function(1.0))
-        values = np.array([float(function(lam)) for lam in PROPORTIONAL_SAMPLES])
+        # evaluate: a callable that fails or is not finite is named with where it failed.
+        full = evaluate(amplitude, 1.0, True)
+        values = np.array([evaluate(amplitude, lam, True) for lam in PROPORTIONAL_SAMPLES])
         expected = PROPORTIONAL_SAMPLES * full
         scale = max(abs(full), float(np.abs(values).max(initial=0.0)), 1e-300)
         worst = int(np.argmax(np.abs(values - expected)))
