@@ -96,7 +96,7 @@ SPEC = PaperCase(
     source="§5.1, Fig. 6",
     make_specimen=lambda cells: specimens.strip(LENGTH, WIDTH, cells, across=2),
     fabric=g986_stack(20),
-    laws_source="Bai Table 1 (G986)",
+    laws_source="Bai Table 1, G986",
     displacement=(-30.0, 0.0, -50.0),
     cells={"coarse": 12, "default": 30, "fine": 60},
     slip_sides=("side_1",),

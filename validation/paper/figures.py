@@ -258,11 +258,11 @@ def laws_figure(case: PaperCase, runs: PaperRuns, out_dir: Path) -> Figure:
         else f"The Mindlin section (calibration '{rule.name}') draws its bending dashed where "
         "it differs from the fabric's."
     )
-    source = f" ({case.laws_source})" if case.laws_source else ""
+    source = f" The laws' source: {case.laws_source}." if case.laws_source else ""
     return Figure(
         name,
         f"The fabric's laws of {case.name} over the range its fibrous run reached: fibre "
-        f"tension, in-plane shear and bending, warp and weft{source}. {mindlin}",
+        f"tension, in-plane shear and bending, warp and weft.{source} {mindlin}",
     )
 
 
