@@ -50,9 +50,11 @@ def g986_stack(plies: int = 20) -> Fabric:
     """Stack of G986 plies of Bai §5.1, simulated as one shell: Bai Table 1.
 
     From the paper: tension 1200 N/mm per unit width; bending B = 7.5 N mm up to |chi| =
-    1e-3 1/mm, 0.5 N mm beyond (continuous reading). Bai applies Table 1 to the 20-ply stack
-    modelled with one element through the thickness, and so does this preset, whatever
-    ``plies`` is. Assumed: 0.3 mm and 285 g/m^2 per ply (6 mm, 5.7 kg/m^2 for 20 plies);
+    1e-3 1/mm, 0.5 N mm beyond (continuous reading). Assumed: Table 1 is the 20-ply stack's,
+    modelled with one element through the thickness (its caption reads "single layer in
+    multilayer reinforcement", the text says only that G986's properties "are given in Table
+    1", and §4.1.3 that the bending used is the overall stack's), and this preset applies it
+    whatever ``plies`` is. Assumed: 0.3 mm and 285 g/m^2 per ply (6 mm, 5.7 kg/m^2 for 20 plies);
     linear shear 0.2 N/mm per ply.
 
     Parameters
@@ -84,7 +86,7 @@ def g986_stack(plies: int = 20) -> Fabric:
 def g986_ply() -> Fabric:
     """One G986 ply with the laws of Bai Table 1 ("single layer in multilayer reinforcement").
 
-    The paper gives a single table and uses it for the whole stack (see ``g986_stack``); this
+    The paper gives a single table, read here as the whole stack's (see ``g986_stack``); this
     preset keeps those laws with one ply's assumed thickness (0.3 mm), areal weight
     (285 g/m^2) and shear (0.2 N/mm). Use it for single-ply studies knowing that the bending
     law was measured on the stack.

@@ -23,9 +23,11 @@ def figure(file, caption, width=None, height=None):
 
 
 def side(tilt, thickness):
+    # Seen facing the side the tilt differs (a side drifting out of its plane): the summary
+    # quotes the tilt in three dimensions.
     return {"max_midsurface_slope_deg": 40.0, "director_angle_min_deg": 70.0,
             "director_angle_max_deg": 90.0, "thickness_max_over_h": thickness,
-            "side_tilt_max_deg": tilt}  # fmt: skip
+            "side_tilt_max_deg": tilt + 20.0, "normal_tilt_max_deg": tilt}  # fmt: skip
 
 
 def run(label):
@@ -221,7 +223,7 @@ def test_the_tables_fit_a_narrow_page(page):
     assert checks == [6] * sum(bool(c["checks"]) for c in REPORT["cases"].values())
     # Cells wrap; no table is a scrolling block that hides its last columns.
     assert "overflow-wrap: break-word" in text and "table { display: block" not in text
-    assert text.count("pass if |value - reference| / |reference| &lt;= tolerance") == 3
+    assert text.count("passes if |value - reference| / |reference| &lt;= tolerance") == 3
 
 
 def test_the_details_of_a_case_are_folded_below_its_figures(page):
@@ -295,3 +297,39 @@ def test_a_parameter_held_as_a_table_is_written_as_its_entries_not_as_python():
     text = render_html({**REPORT, "cases": {"scaled": record}})
     assert "time_scaling = 2, mass_scaling_dt_s = none" in text
     assert "None" not in text and "{" not in text.split("<body")[1].split("<script")[0]
+
+
+def test_a_one_sided_check_shows_its_bound_and_a_reported_value_is_not_counted_as_passed():
+    # A bound (value >= reference) with its comparison in the tolerance column, not a
+    # two-sided tolerance; a number reported beside the checks shows no verdict, and neither
+    # the case's line nor the page's total counts it among the checks passed.
+    from dataclasses import asdict
+
+    from validation.checks import bound, check, reported
+
+    checks = [
+        asdict(check("sag (mm)", 31.85, 31.9, 0.01)),
+        asdict(bound("director gap (deg, > 10)", 10.0, 40.0, at_least=True)),
+        asdict(reported("Mindlin rms against the net (deg)", 7.5)),
+    ]
+    record = case(
+        "A bounded case",
+        [figure("bounded.png", "The strip bent over its clamp: look at the directors.")],
+        checks,
+    )
+    text = render_html({**REPORT, "cases": {"bounded": record}})
+    rows = text.split("<table class='checks'>")[1].split("</table>")[0].split("<tr>")[2:]
+    assert "value &gt;= reference" in rows[1] and "class='pass'>pass" in rows[1]
+    assert "reported" in rows[2] and "pass" not in rows[2]
+    assert "Checks: 2 of 2 passed, 1 reported" in text
+    assert "2 of 2</b> checks" in text and "pass</span> 2/2" in text
+
+
+def test_a_bound_fails_on_the_wrong_side_and_says_by_how_much():
+    from validation.checks import bound
+
+    below = bound("thickness / h (>= 1)", 1.0, 0.97, at_least=True)
+    above = bound("tilt (deg, < 1)", 1.0, 0.5, at_least=False)
+    assert not below.passed and abs(below.error - 0.03) < 1e-12
+    assert above.passed and above.error == 0.0
+    assert not bound("x", 1.0, float("nan"), at_least=True).passed

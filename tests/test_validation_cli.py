@@ -50,7 +50,7 @@ def test_a_coarse_run_writes_the_report_and_passes_its_checks(coarse_report):
     assert '<nav id="summary"><h2>Summary</h2>' in page
     assert "<figcaption><b>Figure 1.</b>" in page
     assert page.count("<details class='checks'>") == len(report["cases"])
-    assert "pass if |value - reference| / |reference| &lt;= tolerance" in page
+    assert "passes if |value - reference| / |reference| &lt;= tolerance" in page
     assert "(None" not in page and "None," not in page  # no Python reprs in cells
     # Strict JSON: no NaN or Infinity (an unbounded tolerance is written as null).
     json.loads((out / "results.json").read_text(), parse_constant=pytest.fail)

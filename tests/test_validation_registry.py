@@ -239,4 +239,5 @@ def test_an_outcome_serialises_with_the_keys_of_results_json():
         "relative",
         "passed",
         "source",
+        "comparison",
     ]

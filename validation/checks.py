@@ -14,7 +14,7 @@ from scipy.optimize import brentq
 from solvers import Static
 from validation.records import Check
 
-__all__ = ["ORDER_RANGE", "check", "observed_order", "solve_sequence"]
+__all__ = ["ORDER_RANGE", "bound", "check", "observed_order", "reported", "solve_sequence"]
 
 # The orders ``observed_order`` looks for; outside them a sequence is reported as having none.
 ORDER_RANGE = (-8.0, 8.0)
@@ -64,6 +64,79 @@ def check(
         relative=relative,
         passed=passed,
         source=source,
+    )
+
+
+def bound(name: str, reference: float, value: float, *, at_least: bool, source: str = "") -> Check:
+    """A one-sided check: passed when ``value >= reference`` (``at_least``) or ``value <=
+    reference``.
+
+    Parameters
+    ----------
+    name : str
+        What is checked, with its unit and the bound (e.g. "(deg, > 10)").
+    reference : float
+        The bound.
+    value : float
+        The computed value.
+    at_least : bool
+        True: the value must not fall below the bound; False: not rise above it.
+    source : str, optional
+        Where the bound comes from.
+
+    Returns
+    -------
+    Check
+        The record: ``comparison`` "at least" or "at most", ``tolerance`` 0 and ``error`` how
+        far the value lies past the bound (0 when it passes).
+    """
+    reference, value = float(reference), float(value)
+    short = reference - value if at_least else value - reference
+    error = max(short, 0.0) if math.isfinite(short) else math.inf
+    return Check(
+        name=name,
+        reference=reference,
+        value=value,
+        error=error,
+        tolerance=0.0,
+        relative=False,
+        passed=bool(math.isfinite(short) and short <= 0.0),
+        source=source,
+        comparison="at least" if at_least else "at most",
+    )
+
+
+def reported(name: str, value: float, *, reference: float = math.nan, source: str = "") -> Check:
+    """A number shown among the checks without a verdict (``comparison`` "reported"): the
+    report neither passes nor fails it and leaves it out of the checks passed.
+
+    Parameters
+    ----------
+    name : str
+        What the number is, with its unit.
+    value : float
+        The computed value.
+    reference : float, optional
+        A value to read it beside (NaN: none).
+    source : str, optional
+        Where the reference comes from.
+
+    Returns
+    -------
+    Check
+        The record, with ``error`` |value - reference| (NaN without a reference).
+    """
+    reference, value = float(reference), float(value)
+    return Check(
+        name=name,
+        reference=reference,
+        value=value,
+        error=abs(value - reference),
+        tolerance=math.inf,
+        relative=False,
+        passed=True,
+        source=source,
+        comparison="reported",
     )
 
 

@@ -109,7 +109,10 @@ def compute(
     data = GroundTruth(case=case, runs=runs, path=path, records=records, plies=plies)
     h = float(case.parts[0]["element"].fabric.thickness)
     differences = _differences(records, h)
-    source = f"the stack as {plies} frictionless plies (elements.plies), their material lines"
+    source = (
+        f"a peer model of this project: the stack as {plies} frictionless plies "
+        "(elements.plies), their material lines"
+    )
     low, high = tolerances["mindlin_angle_mean_deg"]
     checks = [
         check(

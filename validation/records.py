@@ -29,6 +29,7 @@ __all__ = [
     "GROUPS",
     "RESOLUTIONS",
     "Case",
+    "COMPARISONS",
     "CaseResult",
     "Check",
     "ElementRun",
@@ -58,15 +59,20 @@ class Check:
     reference, value : float
         The reference and the computed value.
     error : float
-        ``|value - reference|``, divided by ``|reference|`` when ``relative``.
+        ``|value - reference|``, divided by ``|reference|`` when ``relative``; for a one-sided
+        check, how far the value lies past its bound on the wrong side (0 when it passes).
     tolerance : float
-        The largest error that passes.
+        The largest error that passes (0 for a one-sided check: its bound is the reference).
     relative : bool
         Whether ``error`` and ``tolerance`` are relative.
     passed : bool
-        The verdict.
+        The verdict (True for a reported value, which has none and is not counted).
     source : str
         Where the reference comes from.
+    comparison : str
+        How value and reference are compared (``COMPARISONS``): "within" the tolerance
+        (two-sided), "at least" or "at most" the reference (one-sided, a bound), or
+        "reported" (a number shown beside the checks, without a verdict).
     """
 
     name: str
@@ -77,7 +83,16 @@ class Check:
     relative: bool
     passed: bool
     source: str = ""
+    comparison: str = "within"
 
+    @property
+    def counted(self) -> bool:
+        """Whether the check has a verdict (a reported value has none)."""
+        return self.comparison != "reported"
+
+
+# How a check compares its value with its reference (``Check.comparison``).
+COMPARISONS = ("within", "at least", "at most", "reported")
 
 # A caption is at least this many words: what is shown, which kinematics, what to look at.
 CAPTION_WORDS = 8
@@ -211,13 +226,16 @@ class SideProfile:
 
 @dataclass(frozen=True)
 class SideSummary:
-    """The numbers the report quotes for one element and one side of a paper case."""
+    """The numbers the report quotes for one element and one side of a paper case; the tilts
+    away from the clamped node (the side's first), where the director is held while the
+    profile's slope is a one-sided difference."""
 
     max_midsurface_slope_deg: float
     director_angle_min_deg: float
     director_angle_max_deg: float
     thickness_max_over_h: float
     side_tilt_max_deg: float  # largest |tilt| of the director from the normal, facing the side
+    normal_tilt_max_deg: float  # largest angle of the director to the nodal normal, in 3D
 
 
 @dataclass(frozen=True)
@@ -457,8 +475,13 @@ class CaseResult:
 
     @property
     def passed(self) -> int:
-        """Number of passed checks."""
-        return sum(c.passed for c in self.outcome.checks)
+        """Number of passed checks (the reported values, which have no verdict, left out)."""
+        return sum(c.passed for c in self.outcome.checks if c.counted)
+
+    @property
+    def counted(self) -> int:
+        """Number of checks with a verdict (the reported values left out)."""
+        return sum(c.counted for c in self.outcome.checks)
 
     def to_json(self) -> dict[str, Any]:
         """The case's entry of results.json."""

@@ -635,11 +635,10 @@ def _run_all(
     results: dict[str, CaseResult] = {}
 
     def done(result: CaseResult, before: str = "") -> None:
-        checks = result.outcome.checks
         status = (
             "ERROR " + result.outcome.error
             if result.outcome.error is not None
-            else f"{result.passed}/{len(checks)} checks passed"
+            else f"{result.passed}/{result.counted} checks passed"
         )
         cpu = "" if result.case_cpu_s is None else f" ({result.case_cpu_s:.1f} s CPU)"
         echo(f"{before}{result.case_time_s:.1f} s{cpu}, {status}")

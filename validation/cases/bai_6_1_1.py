@@ -127,6 +127,7 @@ SPEC = corner_case(
     title=TITLE,
     source=SECTION,
     fabric=paper_stack(),
+    laws_source="assumed, materials.presets.paper_stack",
     size=PAPER_STACK_SIZE,
     displacement=CORNER_LIFT,
     described="gripped patch lifted 40 mm, x y free (sliding as one)",

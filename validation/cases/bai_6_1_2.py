@@ -96,6 +96,7 @@ SPEC = corner_case(
     title=TITLE,
     source=SECTION,
     fabric=paper_stack(),
+    laws_source="assumed, materials.presets.paper_stack",
     size=PAPER_STACK_SIZE,
     displacement=(PUSH, None, None),
     described=f"{PUSH} mm along side 1 (x) to the clamp, y and z free",

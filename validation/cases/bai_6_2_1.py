@@ -111,6 +111,7 @@ SPEC = corner_case(
     title=TITLE,
     source=SECTION,
     fabric=g1151_laminate(),
+    laws_source="Bai Table 2, G1151 (its bending tests: Bai Fig. 7)",
     size=G1151_SIZE,
     displacement=CORNER_LIFT,
     described="gripped patch lifted 40 mm, x y free (sliding as one)",

@@ -78,6 +78,7 @@ SPEC = corner_case(
     title=TITLE,
     source=SECTION,
     fabric=g1151_laminate(),
+    laws_source="Bai Table 2, G1151 (its bending tests: Bai Fig. 7)",
     size=G1151_SIZE,
     displacement=(PUSH, None, None),
     described=f"{PUSH} mm along side 1 (x) to the clamp, y and z free",

@@ -16,7 +16,8 @@ pinch it) with a flat flange, the two joined by an entry radius of 10 mm (DIE_RI
 holder, a rigid plane on the flange pressed down by 50 N and free to rise (HOLDER_FORCE).
 Frictionless. The centre lines held in their symmetry planes.
 Parameters (assumed, a G986-like ply): 0.3 mm, 285 g/m^2, tension 60 N/mm and bending
-0.375 N mm (Bai Table 1's stack values shared by its 20 plies), shear 0.2 N/mm
+0.375 N mm (Bai Table 1's values shared by 20 plies, on the assumption of bai-5.1 that
+Table 1 is the 20-ply stack's), shear 0.2 N/mm
 (materials.presets SHEAR_PER_PLY) stiffening to lock near 55 deg. The Mindlin shell is that
 ply's calibration (ElasticShell.equivalent) on B2's closed-form rotary inertia (docs/theory.md
 §6.2; the element rule took 29684 steps where the closed form takes 46967, but its late punch
@@ -89,7 +90,7 @@ from materials import ElasticShell, Fabric, ShearLaw, TensionLaw
 from solvers import CentralDifference, DivergenceError
 from solvers.common import check_positive_or_none
 from solvers.quasi_static import KINETIC_BOUND, KINETIC_SHARE
-from validation.checks import check
+from validation.checks import check, reported
 from validation.forming_measures import (
     corner_draw_in,
     edge_draw_in,
@@ -643,15 +644,20 @@ def combine(resolution: str, made: dict[str, Any]) -> Outcome:
         parameters[f"{kinematics}_draw_in_of_edge_middle_mm"] = record["draw_in_mm"]
         for key in ("edge_draw_in_mm", "corner_draw_in_mm", "late_punch_force_N"):
             parameters[f"{kinematics}_{key}"] = record[key]
+        # The Mindlin shell's shear against the net is reported beside the fibrous check,
+        # without a verdict (no tolerance is claimed for it).
+        rms_name = f"{kinematics}: rms of shear - net shear over the compared cells (deg)"
         checks.append(
             check(
-                f"{kinematics}: rms of shear - net shear over the compared cells (deg)",
+                rms_name,
                 0.0,
                 record["rms_deg"],
-                RMS_TOLERANCE_DEG[resolution] if kinematics == "fibrous" else math.inf,
+                RMS_TOLERANCE_DEG[resolution],
                 relative=False,
                 source=SOURCE,
             )
+            if kinematics == "fibrous"
+            else reported(rms_name, record["rms_deg"], reference=0.0, source=SOURCE)
         )
         if kinematics == "fibrous" and resolution in DRAW_IN_CHECKED:
             lowest, highest = centre_line_draw_in_range(cells)

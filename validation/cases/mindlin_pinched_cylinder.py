@@ -2,7 +2,8 @@
 
 Source: MacNeal & Harder, Finite Elem. Anal. Des. 1 (1985) 3 (the shell-obstacle-course
 problem): radial displacement under the load 1.8248e-5 for P = 1 (linear theory).
-Geometry: radius R = 300, length L = 600, thickness t = 3 (consistent units, in); rigid
+Geometry: radius R = 300 in, length L = 600 in, thickness t = 3 in (the source's inch and
+pound units, E in psi, P in lbf, w in in; the solve needs only their consistency); rigid
 diaphragms at the ends (u_y = u_z = 0 there); two opposite radial loads P = 1 at x = L/2. One
 octant (symmetry planes x = L/2, y = 0, z = 0), n x n cells over L/2 x a quarter circumference,
 a quarter of the load on the octant.
@@ -30,7 +31,7 @@ __all__ = ["CASE", "ConvergenceData", "compute", "octant", "render"]
 
 NAME = "mindlin-pinched-cylinder"
 TITLE = "Pinched cylinder with rigid diaphragms (linear)"
-SOURCE = "MacNeal & Harder, Finite Elem. Anal. Des. 1 (1985) 3: 1.8248e-5"
+SOURCE = "MacNeal & Harder, Finite Elem. Anal. Des. 1 (1985) 3: 1.8248e-5 in"
 # Cells per side of the octant: a mesh sequence for the convergence figure, the last one is
 # the resolution's mesh and carries the check. Measured w / 1.8248e-5: 0.805, 0.951, 0.972,
 # 0.983, 0.995, 1.001, 1.004, 1.008 at 16, 32, 40, 48, 64, 80, 96, 128 cells. 3-node shells
@@ -94,16 +95,16 @@ def compute(resolution: str) -> Outcome:
         parameters={
             "cells_per_side": meshes[-1],
             "mesh_sequence": " ".join(str(n) for n in meshes),
-            "radius": RADIUS,
-            "length": LENGTH,
-            "thickness": THICKNESS,
-            "E": YOUNG,
+            "radius_in": RADIUS,
+            "length_in": LENGTH,
+            "thickness_in": THICKNESS,
+            "E_psi": YOUNG,
             "nu": NU,
-            "P": LOAD,
+            "P_lbf": LOAD,
         },
         checks=[
             check(
-                f"radial displacement under the load, {meshes[-1]} x {meshes[-1]} cells",
+                f"radial displacement under the load (in), {meshes[-1]} x {meshes[-1]} cells",
                 REFERENCE,
                 deflections[-1],
                 TOLERANCE,
@@ -122,7 +123,7 @@ def render(data: ConvergenceData, out_dir: Path) -> list[Figure]:
         data.ratio,
         TOLERANCE,
         xlabel="cells per side of the octant",
-        ylabel="w / 1.8248e-5",
+        ylabel="w / 1.8248e-5 in",
         label="MindlinShell, Static",
         ylim=(min(0.4, data.ratio.min() - 0.05), 1.1),
     )
@@ -132,7 +133,8 @@ def render(data: ConvergenceData, out_dir: Path) -> list[Figure]:
         Figure(
             f"{NAME}.png",
             "The pinched cylinder with rigid diaphragms (MacNeal and Harder 1985): the Mindlin "
-            "shell's radial displacement under the load over the reference 1.8248e-5, against "
+            "shell's radial displacement under the load over the reference 1.8248e-5 in (P = 1 "
+            "lbf), against "
             "the cells per side of the octant. The ratio should enter the grey tolerance band "
             "and approach 1 as the mesh is refined.",
         )

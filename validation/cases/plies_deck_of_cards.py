@@ -356,7 +356,9 @@ def compute(resolution: str) -> Outcome:
                 order[key],
                 0.5 * (high - low),
                 relative=False,
-                source="meshes " + parameters["deck_meshes_at_N_2"],
+                source="the same model on the meshes of "
+                + parameters["deck_meshes_at_N_2"]
+                + " cells",
             )
         )
     for run in sags[1:]:
@@ -381,7 +383,7 @@ def compute(resolution: str) -> Outcome:
                 float(offset.max()),
                 SAG_OFFSET_TOLERANCE,
                 relative=False,
-                source="FibrousShell, same mesh",
+                source="a peer model of this project: the FibrousShell, same mesh and load",
             ),
             check(
                 f"heavy stack, N = {run.count}: largest |material-line angle - fibrous "
@@ -390,7 +392,7 @@ def compute(resolution: str) -> Outcome:
                 float(difference[: len(difference) // 2 + 1].max()),
                 SAG_ANGLE_TOLERANCE,
                 relative=False,
-                source="FibrousShell, same mesh",
+                source="a peer model of this project: the FibrousShell, same mesh and load",
             ),
         ]
     return Outcome(
@@ -405,6 +407,21 @@ def compute(resolution: str) -> Outcome:
         checks=checks,
         data=PliesData(decks=decks, meshes=meshes, sags=sags),
     )
+
+
+def _listed(items: list) -> str:
+    """Items in words: "10", "10 and 20", "10, 20 and 40"."""
+    words = [str(item) for item in items]
+    return words[0] if len(words) == 1 else f"{', '.join(words[:-1])} and {words[-1]}"
+
+
+def _runs(data: PliesData) -> str:
+    """The decks drawn in the tilt figure, in words: their ply counts and meshes (the
+    resolution's, so that the caption says what the figure shows)."""
+    counts = sorted({run.count for run in data.decks})
+    cells = sorted({run.cells for run in data.decks})
+    plies = f"{_listed(counts)} plies"
+    return f"{plies} on {_listed(cells)} cells" if len(cells) > 1 else f"{plies}, {cells[0]} cells"
 
 
 def render(data: PliesData, out_dir: Path) -> list[Figure]:
@@ -452,14 +469,15 @@ def render(data: PliesData, out_dir: Path) -> list[Figure]:
         Figure(
             names[0],
             "A deck of N frictionless Mindlin plies bent onto a quarter circle: the tilt of its "
-            "material lines from the normal against the bend angle theta, for several ply "
-            "counts and meshes, against the closed form atan(theta). The points should lie on "
-            "the line: the plies are the discrete deck of cards the fibrous shell models.",
+            f"material lines from the normal against the bend angle theta, for {_runs(data)}, "
+            "against the closed form atan(theta). The points should lie on the line: the plies "
+            "are the discrete deck of cards the fibrous shell models.",
         ),
         Figure(
             names[1],
             "The largest errors of the two-ply deck's tilt and thickness against the closed "
-            "form on three meshes (log-log). The errors should fall as the mesh is refined.",
+            f"form on the meshes of {_listed([run.cells for run in data.meshes])} cells "
+            "(log-log). The errors should fall as the mesh is refined.",
         ),
         Figure(
             names[2],

@@ -82,6 +82,9 @@ class PaperCase:
     # MindlinShell(fabric) with the fabric's own laws, so that the comparison changes the
     # kinematics alone; stated in the parameters, the figures and the paragraph.
     calibration: Calibration = field(default_factory=Calibration)
+    # Where the fabric's laws come from, in the laws figure's caption: Bai's table of this
+    # material, or the assumed preset (Bai Fig. 7's moment-curvature data are G1151's).
+    laws_source: str = ""
     # What the comparison of the fibrous and the Mindlin run shows on this case, in words
     # (measured; validation.paper.discussion.comparison adds it after the run's numbers).
     comparison_note: str = ""
@@ -213,14 +216,15 @@ def corner_case(
     comparison_note: str = "",
     midsurface_tolerance: float | None = None,
     order_increments: int | None = None,
+    laws_source: str = "",
 ) -> PaperCase:
     """A §6 test on the free triangle of a ``size`` = (L, W) rectangle beyond its clamped
     diagonal (validation.specimens.corner), ``displacement`` imposed at the free corner (the
     corner node; with ``grip`` = (a, b) (mm), the a x b patch at the corner a gripper holds,
     its directors held too) and ``described`` in words for the report; ``slip_sides``,
     ``slip_note``, ``slip_tolerance_deg``, ``order_cells``, ``order_tolerance``,
-    ``comparison_note``, ``midsurface_tolerance`` and ``order_increments`` as in
-    ``PaperCase``."""
+    ``comparison_note``, ``midsurface_tolerance``, ``order_increments`` and ``laws_source``
+    as in ``PaperCase``."""
     length, width = size
     gripped = {} if grip is None else {"gripped patch (assumed)": "{:g} x {:g} mm".format(*grip)}
     return PaperCase(
@@ -240,6 +244,7 @@ def corner_case(
         comparison_note=comparison_note,
         midsurface_tolerance=midsurface_tolerance,
         order_increments=order_increments,
+        laws_source=laws_source,
         parameters={
             "length_mm": length,
             "width_mm": width,

@@ -16,7 +16,7 @@ import numpy as np
 
 from validation import specimens
 from validation.paper.kinematics import LABELS, calibration_title
-from validation.paper.profiles import midsurface_gap, slip_errors
+from validation.paper.profiles import away_from_clamp, midsurface_gap, out_of_plane, slip_errors
 from validation.records import ElementRun
 
 if TYPE_CHECKING:
@@ -27,6 +27,28 @@ __all__ = ["comparison", "discussion"]
 
 def _largest(values: list[np.ndarray]) -> float:
     return float(max(np.abs(v).max() for v in values))
+
+
+# Below this (mm) a side is taken to stay in the vertical plane the side figure projects on.
+IN_PLANE_MM = 0.5
+
+
+def _projection(mindlin: dict[str, float]) -> str:
+    """What the Mindlin director's angle in (b) shows: 90 deg plus the slope of the profile
+    (a), up to its tilt from the normal, where the sides stay in the plane the figure projects
+    on; where they leave it, the projection's angles are not the surface's."""
+    text = (
+        "Seen facing the side, its angle in (b) is 90 deg plus the slope of the profile (a), "
+        "up to that tilt, where the side stays in its vertical plane; "
+    )
+    if mindlin["out_of_plane"] < IN_PLANE_MM:
+        return text + f"here it does, and the two differ by up to {mindlin['tilt']:.1f} deg."
+    return text + (
+        f"here the sides move up to {mindlin['out_of_plane']:.1f} mm out of it, and in the "
+        f"projection the two differ by up to {mindlin['tilt']:.1f} deg: where that exceeds the "
+        f"tilt in three dimensions, it is the projection of a side leaving its plane, not the "
+        f"director leaving the normal."
+    )
 
 
 def comparison(
@@ -73,25 +95,26 @@ def discussion(
     comparison of the default fibrous and the Mindlin run (``comparison``), then the case's
     note on the atan(theta) check with the measured differences of both fibrous variants."""
     # Away from the clamped node, the first of each side, where the rotation is a one-sided
-    # difference over the first element while the director is held.
+    # difference over the first element while the director is held (``away_from_clamp``).
     numbers = {}
     for kinematics, record in elements.items():
         sides = list(record.sides.values())
         numbers[kinematics] = {
-            "rotation": _largest([np.asarray(s.rotation_deg)[1:] for s in sides]),
-            "tilt": _largest([np.asarray(s.side_tilt_deg)[1:] for s in sides]),
-            "normal_tilt": _largest([np.asarray(s.director_tilt_deg)[1:] for s in sides]),
+            "rotation": _largest([away_from_clamp(s.rotation_deg) for s in sides]),
+            "tilt": _largest([away_from_clamp(s.side_tilt_deg) for s in sides]),
+            "normal_tilt": _largest([away_from_clamp(s.director_tilt_deg) for s in sides]),
             "turned": _largest([np.asarray(s.director_angle_deg) - 90.0 for s in sides]),
             "thick": max(float(np.max(s.thickness)) for s in sides) / h,
+            "out_of_plane": out_of_plane(specimen, record),
         }
     m, f, e = numbers["mindlin"], numbers["fibrous"], numbers["fibrous_element"]
     atan = np.degrees(np.arctan(np.radians(f["rotation"])))
     paragraphs = [
         f"{LABELS['mindlin']}: the director is the rotated normal. It follows the normal up to "
-        f"the transverse shear strain, so its angle in (b) is 90 deg plus the slope of the "
-        f"profile (a); here it leaves the nodal normal by at most {m['normal_tilt']:.1f} deg "
-        f"while the mid-surface turns by up to {m['rotation']:.0f} deg. The thickness along "
-        f"it is h = {h:g} mm everywhere (c): a Mindlin section neither thickens nor slips.",
+        f"the transverse shear strain: here it leaves the nodal normal by at most "
+        f"{m['normal_tilt']:.1f} deg (in three dimensions) while the mid-surface turns by up "
+        f"to {m['rotation']:.0f} deg. {_projection(m)} The thickness along it is h = {h:g} mm "
+        f"everywhere (c): a Mindlin section neither thickens nor slips.",
         f"{LABELS['fibrous']}: the director is the material line across the plies, and the "
         f"thickness along it h_m = h / (V . N) uses the nodal normal N. Where the plies slip "
         f"freely from the clamp, a stack whose mid-surface has turned by theta tilts its "

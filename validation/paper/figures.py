@@ -189,7 +189,7 @@ def side_elevation(
 
 
 def laws_figure(case: PaperCase, runs: PaperRuns, out_dir: Path) -> Figure:
-    """The fabric's laws (cf. Bai Fig. 7 for bending) from 0 over the range the fibrous run
+    """The fabric's laws (their source: ``case.laws_source``) from 0 over the range the fibrous run
     reached (they are odd, or zero in compression), warp and weft. With the "laws"
     calibration they are the Mindlin section's laws as well (MindlinShell(fabric)), and the
     title says so; a calibration that changes the bending law draws the Mindlin one dashed
@@ -211,7 +211,7 @@ def laws_figure(case: PaperCase, runs: PaperRuns, out_dir: Path) -> Figure:
          1e-3, "log strain", "T (N/mm)"),
         ("in-plane shear", fabric.shear, None, ("shear_angle_deg",), np.pi / 180.0, 0.05,
          "shear angle (deg)", "M_s (N/mm)"),
-        ("bending (cf. Bai Fig. 7)", fabric.bending, fabric.bending_weft,
+        ("bending", fabric.bending, fabric.bending_weft,
          ("warp_curvature", "weft_curvature"), 1.0, 1e-3, "curvature (1/mm)", "M (N mm/mm)"),
     )  # fmt: skip
     both = "" if rule.name == "initial-slope" else " (both shells)"
@@ -258,10 +258,11 @@ def laws_figure(case: PaperCase, runs: PaperRuns, out_dir: Path) -> Figure:
         else f"The Mindlin section (calibration '{rule.name}') draws its bending dashed where "
         "it differs from the fabric's."
     )
+    source = f" The laws' source: {case.laws_source}." if case.laws_source else ""
     return Figure(
         name,
         f"The fabric's laws of {case.name} over the range its fibrous run reached: fibre "
-        f"tension, in-plane shear and bending (cf. Bai Fig. 7), warp and weft. {mindlin}",
+        f"tension, in-plane shear and bending, warp and weft.{source} {mindlin}",
     )
 
 

@@ -136,7 +136,9 @@ def order_checks(case: PaperCase, orders: list[ObservedOrder], resolution: str) 
     """
     tolerances = (case.order_tolerance or {}).get(resolution, {})
     checks = []
-    source = f"{PAPER}, {case.source}: Richardson extrapolation on three meshes"
+    source = (
+        f"the same model on three meshes (Richardson extrapolation); set-up: {PAPER}, {case.source}"
+    )
     for record in orders:
         tolerance = tolerances.get(order_kind(record))
         if tolerance is None:
