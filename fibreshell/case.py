@@ -101,7 +101,8 @@ from femcore import Mesh, Model
 from fibreshell import registry
 from fibreshell.case_materials import _material, _user_element
 from fibreshell.case_reading import CaseError, _keywords, _number, _table, _vector, _Where
-from fibreshell.case_sets import BOUND_KEYS, BoundsError, select_by_bounds
+from fibreshell.case_sets import BOUND_KEYS, BoundsError, order_path, select_by_bounds
+from fibreshell.outputs import DEFAULT_CHECKPOINT, checkpoint_collision
 from solvers import CentralDifference, DynamicRelaxation, Static
 
 __all__ = ["Case", "CaseError", "case_from_data", "load_case", "read_case_data"]
@@ -596,13 +597,13 @@ def _solver(top: _Where, value: Any) -> dict:
 
 # The checkpoint options of [solver]: arguments of solve(), not of the solver's constructor.
 _CHECKPOINT_KEYS = ("checkpoint", "checkpoint_interval")
-DEFAULT_CHECKPOINT = "checkpoint.pkl"
 
 
 def _checkpoint(where: _Where, kind: str, value: dict) -> dict:
     """``checkpoint`` (a file name relative to the output folder, or false for none; default
-    DEFAULT_CHECKPOINT for explicit and relaxation runs) and ``checkpoint_interval``
-    (explicit runs: wall-clock seconds between saves, default 60)."""
+    DEFAULT_CHECKPOINT for explicit and relaxation runs; not the name of a file the run writes
+    beside it, fibreshell.outputs.checkpoint_collision) and ``checkpoint_interval`` (explicit
+    runs: wall-clock seconds between saves, default 60)."""
     checkpoint = value.get("checkpoint", DEFAULT_CHECKPOINT if kind != "static" else False)
     if kind == "static" and "checkpoint" in value:
         raise where.error(
@@ -613,6 +614,12 @@ def _checkpoint(where: _Where, kind: str, value: dict) -> dict:
         raise where.error(
             "checkpoint", f"expected a file name (relative to the output folder) or false, "
             f"got {checkpoint!r}",
+        )  # fmt: skip
+    taken = checkpoint_collision(checkpoint) if isinstance(checkpoint, str) else None
+    if taken is not None:
+        raise where.error(
+            "checkpoint", f"a checkpoint named {checkpoint!r} would overwrite {taken}; give "
+            f"another name (default {DEFAULT_CHECKPOINT!r})",
         )  # fmt: skip
     interval = value.get("checkpoint_interval", 60.0)
     if "checkpoint_interval" in value and kind != "explicit":
@@ -660,6 +667,8 @@ def _output(top: _Where, value: Any, case: Case) -> None:
         ids = _select(where.child("paths"), case.mesh, selection, name)
         if ids.size < 2:
             raise where.child("paths").error(name, "a path needs at least 2 nodes")
-        points = case.mesh.points[ids]
-        axis = int(np.argmax(np.ptp(points, axis=0)))
-        case.paths[name] = ids[np.argsort(points[:, axis], kind="stable")]
+        try:  # a line of nodes, or the profiles zigzag across an area (the same order
+            # reaches compare's figures, sweep.csv's path columns and identify --path)
+            case.paths[name] = order_path(case.mesh.points, ids)
+        except BoundsError as error:
+            raise where.child("paths").error(name, str(error)) from None

@@ -9,6 +9,9 @@ the tip; an absolute one stays where it was written. A node is in the set when e
 given holds within ``tolerance`` (mesh units, >= 0; default 1e-6 of the mesh's largest
 extent). Bounds that select no node are an error naming each bound, its coordinate and the
 mesh's extent.
+
+A path (``[output] paths``) is a set that is a line: its nodes ordered along the axis of its
+longest extent, one node at each position along it (``order_path``).
 """
 
 from __future__ import annotations
@@ -19,7 +22,7 @@ from typing import Any
 
 import numpy as np
 
-__all__ = ["BOUND_KEYS", "BoundsError", "select_by_bounds"]
+__all__ = ["BOUND_KEYS", "BoundsError", "order_path", "select_by_bounds"]
 
 BOUND_KEYS = ("x_min", "x_max", "y_min", "y_max", "z_min", "z_max", "tolerance")
 _PERCENT = re.compile(r"\s*([-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?)\s*%\s*")
@@ -140,4 +143,50 @@ def select_by_bounds(points: np.ndarray, bounds: Mapping[str, Any]) -> np.ndarra
     )
     raise BoundsError(
         f"{what} (tolerance {float(tolerance):g}): the mesh spans {spans}{hint}", None
+    )
+
+
+def order_path(points: np.ndarray, ids: np.ndarray) -> np.ndarray:
+    """The nodes ``ids`` of a path ordered along the axis of their longest extent.
+
+    Parameters
+    ----------
+    points : (n, 3) float
+        The mesh's reference coordinates (mesh units).
+    ids : (k,) int
+        The path's nodes, k >= 2.
+
+    Returns
+    -------
+    (k,) int
+        ``ids`` in increasing coordinate along that axis (the profiles' order, their arc
+        length summed node to node).
+
+    Raises
+    ------
+    BoundsError
+        When two nodes stand at one position along the axis (within 1e-6 of the mesh's
+        largest extent, the selections' default tolerance): the nodes are an area, not a line
+        (a bound forgotten, ``y_min = "0%"`` without ``y_max``), and the order would zigzag
+        across it; the message says how many nodes share how many positions.
+    """
+    chosen = points[ids]
+    axis = int(np.argmax(np.ptp(chosen, axis=0)))
+    order = np.argsort(chosen[:, axis], kind="stable")
+    along = chosen[order, axis]
+    size = float(np.ptp(points, axis=0).max()) or 1.0
+    group = np.r_[0, np.cumsum(np.diff(along) > 1e-6 * size)]  # one number per position
+    counts = np.bincount(group)
+    if counts.max() == 1:
+        return ids[order]
+    shared = np.flatnonzero(counts > 1)
+    name = "xyz"[axis]
+    first = along[group == shared[0]][0]
+    plural = "s" if len(shared) > 1 else ""
+    raise BoundsError(
+        f"not a line: {counts[shared].sum()} of its {len(ids)} nodes share {len(shared)} "
+        f"position{plural} along {name}, its longest extent (the first: {counts[shared[0]]} "
+        f"nodes at {name} = {first:g}); a path is one node at each position along it, ordered "
+        "by it: give the bounds that make it one line of nodes (both y_min and y_max for a "
+        "line along x)"
     )

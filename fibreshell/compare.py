@@ -18,6 +18,7 @@ solver, side by side: the fibrous shell, the Mindlin shell of a stated calibrati
 
 from __future__ import annotations
 
+import json
 from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
@@ -26,12 +27,14 @@ import numpy as np
 
 from fibreshell.calibration import CALIBRATIONS, Calibration
 from fibreshell.case import Case
+from fibreshell.confidence import interval_text
+from fibreshell.outputs import IDENTIFY_FILES, MATERIAL_LINES, remove_run_folder
 from fibreshell.run import Run, profile, run_case, section_thickness, strict_json
 
 __all__ = [
     "COLOURS", "DEFAULT_KINEMATICS", "KINEMATICS", "calibration_lines", "compare_case",
     "fit_calibration",
-    "kinematics_record", "path_figure", "summary_lines", "view_3d",
+    "kinematics_record", "path_figure", "remove_comparison", "summary_lines", "view_3d",
 ]  # fmt: skip
 
 KINEMATICS = ("fibrous", "mindlin", "plies")
@@ -83,7 +86,8 @@ def compare_case(
     true scale, the directors drawn across the thickness along the paths) and one figure per
     path (``out/path-<name>.png``: side elevation with the through-thickness lines, director
     angle, director tilt from the normal, thickness along the director). Every figure and the
-    JSON state the Mindlin calibration and the numbers it chose.
+    JSON state the Mindlin calibration and the numbers it chose. What an earlier comparison
+    wrote in ``out`` is removed first (``remove_comparison``): the folder holds this one's.
 
     Parameters
     ----------
@@ -150,6 +154,7 @@ def compare_case(
 
         ply_stack(case, plies)  # the count and the case's fitness for plies, now
     out.mkdir(parents=True, exist_ok=True)
+    remove_comparison(out)
     runs: dict[str, Run] = {}
     if "fibrous" in chosen or (fitting and "mindlin" in chosen):
         runs["fibrous"] = run_case(case, out / "fibrous", "fibrous", progress)
@@ -184,6 +189,26 @@ def compare_case(
         comparison["figures"].append(path_figure(case, runs, name, out, label).name)
     (out / "comparison.json").write_text(strict_json(comparison))
     return runs
+
+
+def remove_comparison(out: Path) -> None:
+    """Remove from ``out`` what an earlier comparison wrote there, so that it holds only the
+    new one's results (an old ``mindlin/`` beside a new fibrous-only comparison would be read
+    as this one's): the folders of each kinematics and of the fit, emptied of the files a run
+    (or the fit) writes and then removed unless a user's own file is left in them, and the
+    figures the earlier comparison.json lists, with it."""
+    for name in KINEMATICS:
+        remove_run_folder(out / name, extra=(MATERIAL_LINES,) if name == "plies" else ())
+    remove_run_folder(out / "fit", extra=IDENTIFY_FILES)
+    try:
+        earlier = json.loads((out / "comparison.json").read_text()).get("figures", [])
+    except (OSError, ValueError, AttributeError):
+        return
+    for figure in earlier if isinstance(earlier, list) else []:
+        # only a figure's plain name, as compare_case writes it (never a path elsewhere)
+        if isinstance(figure, str) and Path(figure).name == figure and figure.endswith(".png"):
+            (out / figure).unlink(missing_ok=True)
+    (out / "comparison.json").unlink()
 
 
 def _check_fit(case: Case, path: str | None, max_evaluations: int) -> str:
@@ -403,10 +428,13 @@ def _calibration_lines(calibration: dict[str, Any]) -> list[str]:
                 f"  fitted along path {value['path']!r}: RMS height residual "
                 f"{value['residual_rms_mm']:.3g} mm in {value['evaluations']} evaluations"
             )
-            for name, (low, high) in value["confidence_95"].items():
-                lines.append(
-                    f"    {name} = {value['values'][name]:.4g} (95 %: {low:.3g} to {high:.3g})"
-                )
+            for name, ends in value["confidence_95"].items():
+                found = value["values"][name]
+                if ends is None or not all(e is not None and np.isfinite(e) for e in ends):
+                    lines.append(f"    {name} = {found:.4g} (no interval: the data cannot tell)")
+                    continue
+                low, shown, high = interval_text(found, *ends)
+                lines.append(f"    {name} = {shown} (95 %: {low} to {high})")
         else:
             lines.append(f"  {key} = {value if isinstance(value, str) else f'{value:.4g}'}")
     return lines

@@ -35,6 +35,8 @@ import numpy as np
 from fibreshell import registry
 from fibreshell.case import case_from_data, read_case_data
 from fibreshell.cluster import Failure, dask_client, map_tasks
+from fibreshell.confidence import interval_text
+from fibreshell.outputs import IDENTIFY_FILES
 from fibreshell.run import strict_json
 from fibreshell.sweep import RUN_KEYS, apply_overrides, read_value, run_variant, summary_row
 
@@ -457,8 +459,9 @@ def identify(
         if folder.exists() and not folder.is_dir():
             raise ValueError(f"out {str(folder)!r} is a file: give a folder")
         folder.mkdir(parents=True, exist_ok=True)
-        (folder / "identify.json").write_text(strict_json(result.as_dict()))
-        figure(result, settings, folder / "fit.png")
+        record, drawing = IDENTIFY_FILES
+        (folder / record).write_text(strict_json(result.as_dict()))
+        figure(result, settings, folder / drawing)
     return result
 
 
@@ -517,12 +520,13 @@ def format_result(result: Identification) -> str:
     lines = []
     for i, key in enumerate(result.keys):
         low, high = result.intervals[i]
-        interval = (
-            f"95 % interval [{low:.6g}, {high:.6g}]"
-            if np.isfinite(low)
-            else "no interval (as many data as parameters, or they cannot be told apart)"
-        )
-        lines.append(f"{key} = {result.values[i]:.6g} (start {result.start[i]:.6g}), {interval}")
+        value = f"{result.values[i]:.6g}"
+        if np.isfinite(low) and np.isfinite(high):
+            start, value, end = interval_text(result.values[i], low, high, digits=6)
+            interval = f"95 % interval [{start}, {end}]"
+        else:
+            interval = "no interval (as many data as parameters, or they cannot be told apart)"
+        lines.append(f"{key} = {value} (start {result.start[i]:.6g}), {interval}")
     lines.append(
         f"RMS residual {result.residual_rms:.4g}; {result.evaluations} evaluations, "
         f"{result.runs} runs, {result.wall_time_s:.1f} s; {result.message}"

@@ -22,6 +22,7 @@ from elements import FibrousShell, MindlinShell
 from elements.plies import PlyStack
 from femcore.results import write_vtu
 from fibreshell.case import SOLVERS, Case
+from fibreshell.outputs import MATERIAL_LINES, clean_run
 from fibreshell.run import Run, path_axis, solve_keeping, strict_json
 
 __all__ = [
@@ -148,6 +149,7 @@ def run_plies(case: Case, out: Path, count: int | None = None, progress: bool | 
         largest gap and overlap between plies (mm) and the contact penalty.
     """
     out.mkdir(parents=True, exist_ok=True)
+    clean_run(out, None, extra=(MATERIAL_LINES,))  # an earlier run's frames, by their names
     stack = ply_stack(case, count)
     model = stack_model(case, stack)
     result, error, wall = solve_keeping(plies_solver(case, progress), model)
@@ -183,7 +185,7 @@ def run_plies(case: Case, out: Path, count: int | None = None, progress: bool | 
         "paths": profiles,
     }
     (out / "summary.json").write_text(strict_json(summary))
-    write_material_lines(case, stack, lines, out / "material-lines.vtu")
+    write_material_lines(case, stack, lines, out / MATERIAL_LINES)
     return Run("plies", result, error, wall, summary, profiles=profiles)
 
 

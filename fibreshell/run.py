@@ -17,20 +17,15 @@ import numpy as np
 
 from femcore.results import Frame, Result
 from femcore.writable import FIRST_FRAMES, OutputError, check_folder, frame_bytes, series_frames
-from fibreshell.case import DEFAULT_CHECKPOINT, Case
+from fibreshell.case import Case
+from fibreshell.outputs import checkpoint_collision, clean_run
 from solvers import Interrupted, SolverError
 from solvers.output import ENERGY_KEYS
 
 __all__ = [
-    "OUTPUT_FILES", "Run", "clean_outputs", "frame_row", "history_rows", "kept", "path_axis",
+    "Run", "frame_row", "frames_written", "history_rows", "kept", "path_axis",
     "profile", "run_case", "section_thickness", "solve_keeping", "strict_json", "summarise",
 ]  # fmt: skip
-
-
-# The files a run writes in its output folder (globs), removed before a new run writes there
-# (not when it resumes): a series of fewer frames would otherwise sit beside the old frames.
-OUTPUT_FILES = ("result*.vtu", "result.pvd", "history.csv", "energies.csv", "summary.json",
-                "*.part")  # fmt: skip
 
 
 @dataclass
@@ -91,8 +86,9 @@ def run_case(
     resume : bool
         Continue from the checkpoint in ``out`` (``[solver] checkpoint``, by default
         ``checkpoint.pkl`` for explicit and relaxation runs) to the same bits as a run never
-        stopped. Without it the files a run writes (OUTPUT_FILES and the checkpoint) are
-        removed from ``out`` first.
+        stopped. Without it the files a run writes (fibreshell.outputs.clean_run: by their
+        exact names, the checkpoint included) are removed from ``out`` first, and only those:
+        a series of fewer frames would otherwise sit beside the old frames.
     write_frames : bool
         False: a static or relaxation run writes no ``result.pvd`` series (history.csv and
         summary.json are written, the frames stay in the result), for a caller that throws
@@ -107,7 +103,8 @@ def run_case(
     Raises
     ------
     ValueError
-        ``out`` is a file or under one; ``resume`` without a checkpoint to resume from.
+        ``out`` is a file or under one; ``resume`` without a checkpoint to resume from; a
+        checkpoint path that lands on a file the run writes in ``out``.
     femcore.writable.OutputError
         ``out`` cannot be written or is too full for the first frames, or a write failed
         during the run (the message names the file and what was kept).
@@ -122,6 +119,15 @@ def run_case(
     check_folder(out, "output folder", needed=needed)
     named = case.solver.get("checkpoint")
     checkpoint = None if named is None else out / named
+    if checkpoint is not None and checkpoint.resolve().parent == out.resolve():
+        # "../out/result.pvd" or an absolute path into the folder: the case file's check
+        # (fibreshell.case) sees only names relative to the folder
+        taken = checkpoint_collision(checkpoint.name)
+        if taken is not None:
+            raise ValueError(
+                f"the checkpoint {named!r} would overwrite {taken} ({str(out)!r}); give "
+                "[solver] checkpoint another name"
+            )
     if resume and (checkpoint is None or not checkpoint.exists()):
         why = (
             "a static run has no checkpoint"
@@ -132,7 +138,7 @@ def run_case(
         )
         raise ValueError(f"nothing to resume in {str(out)!r}: {why}; run without --resume")
     if not resume:
-        clean_outputs(out, checkpoint)
+        clean_run(out, checkpoint)
     if checkpoint is not None:  # "[solver] checkpoint" may name a file in a subfolder
         check_folder(checkpoint.parent, "the checkpoint's folder")
     rule = Calibration.from_options(calibration, shear_ratio, bending_scale, transverse_shear)
@@ -171,15 +177,6 @@ def run_case(
         raise OutputError.from_error(failed, kept(out, checkpoint)) from None
     return Run(label, result, error, wall, summary, status=status,
                signal=getattr(failure, "signal", None), checkpoint=checkpoint)  # fmt: skip
-
-
-def clean_outputs(out: Path, checkpoint: Path | None) -> None:
-    """Remove from ``out`` the files a run writes there (OUTPUT_FILES), ``checkpoint`` and
-    the default checkpoint (an earlier run of another kind may have left it)."""
-    stale = [path for pattern in OUTPUT_FILES for path in out.glob(pattern)]
-    stale.append(out / DEFAULT_CHECKPOINT)
-    for path in stale + ([checkpoint] if checkpoint is not None else []):
-        path.unlink(missing_ok=True)
 
 
 def kept(out: Path, checkpoint: Path | None) -> str:
@@ -283,6 +280,13 @@ def history_rows(case: Case, result: Result) -> list[dict]:
     return rows
 
 
+def frames_written(result: Result) -> int:
+    """The frames of the run's series (the rows of history.csv): a streamed explicit run keeps
+    only two of them in memory and counts the others in ``result.info["frame_summaries"]``."""
+    summaries = result.info.get("frame_summaries")
+    return len(summaries if summaries is not None else result.frames)
+
+
 def path_axis(case: Case, name: str) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Path ``name``'s nodes, their reference arc length s (mm) and the path's horizontal
     unit direction (3,) from its first to its last node (profiles are drawn along it)."""
@@ -330,7 +334,7 @@ def summarise(case: Case, result: Result, kinematics: str, error: str, wall: flo
         "converged": bool(result.converged),
         "stopped": error or None,
         "steps": int(result.steps),
-        "frames": len(result.frames),
+        "frames": frames_written(result),
         "wall_time_s": wall,
         "final_time": final.time,
         "final_load_factor": final.load_factor,

@@ -31,10 +31,11 @@ import numpy as np
 
 from fibreshell.case import CaseError, case_from_data, read_case_data
 from fibreshell.cluster import Failure, dask_client, map_tasks, set_threads
+from fibreshell.outputs import VARIANT_FILE, remove_run_folder
 
 __all__ = [
     "MAX_VARIANTS", "RUN_KEYS", "SweepTable", "apply_overrides", "parse_vary", "read_value",
-    "run_variant", "split_values", "summary_row", "sweep", "variants",
+    "remove_variants", "run_variant", "split_values", "summary_row", "sweep", "variants",
 ]  # fmt: skip
 
 # Keys that are options of the run, not of the case file: run_case's keywords (those of
@@ -50,6 +51,8 @@ _SPACES: dict[str, Any] = {"linspace": np.linspace, "geomspace": np.geomspace}
 #: The most variants a sweep runs unless told otherwise (``max_variants``, ``--max-variants``):
 #: more is almost always a typo (a count of 1e9 in a linspace), refused before anything runs.
 MAX_VARIANTS = 10_000
+# A variant's folder in the sweep's: variant-000, variant-001, ... (variant-1000 past 999).
+VARIANT_FOLDER = re.compile(r"variant-[0-9]{3,}")
 
 
 # ------------------------------------------------------------------ the variants
@@ -268,6 +271,17 @@ def summary_row(summary: dict) -> dict[str, Any]:
     return row
 
 
+def remove_variants(folder: Path) -> None:
+    """Remove from a sweep's ``folder`` the variants an earlier sweep wrote there: each
+    ``variant-<k>`` folder holding a ``variant.json``, emptied of the run's files and that
+    record and then removed (a user's own file in it stays, and the folder with it), so that
+    the folder holds only the new sweep's variants and not, beyond them or where a variant
+    fails to build, those of another sweep."""
+    for child in folder.iterdir():
+        if VARIANT_FOLDER.fullmatch(child.name) and (child / VARIANT_FILE).is_file():
+            remove_run_folder(child, extra=(VARIANT_FILE,))
+
+
 def run_variant(
     data: dict, path: str, overrides: dict, folder: str | None, threads: int | None = None
 ) -> tuple[dict, dict | None]:
@@ -288,7 +302,7 @@ def run_variant(
                 run = run_case(case, Path(scratch), progress=False, write_frames=False, **options)
         else:
             Path(folder).mkdir(parents=True, exist_ok=True)
-            (Path(folder) / "variant.json").write_text(
+            (Path(folder) / VARIANT_FILE).write_text(
                 json.dumps({"case": path, "overrides": overrides}, indent=1) + "\n"
             )
             run = run_case(case, Path(folder), progress=False, **options)
@@ -405,7 +419,8 @@ def sweep(
         Pair the i-th values of every key (``--zip``) instead of the full product.
     out : str, pathlib.Path or None
         Folder of ``sweep.csv``, ``sweep.json`` (the sweep's definition) and one folder per
-        variant (``variant-000``, ... with the run's files and ``variant.json``); None writes
+        variant (``variant-000``, ... with the run's files and ``variant.json``; the variant
+        folders of an earlier sweep there are removed first, ``remove_variants``); None writes
         nothing (the table is returned). On a remote cluster the workers write the variant
         folders: give a folder they share with this machine.
     scheduler : str or None
@@ -462,6 +477,7 @@ def sweep(
         if folder.exists() and not folder.is_dir():
             raise ValueError(f"out {str(folder)!r} is a file: give a folder")
         folder.mkdir(parents=True, exist_ok=True)
+        remove_variants(folder)
         definition = {"case": str(path), "vary": vary, "paired": paired, "scheduler": scheduler}
         (folder / "sweep.json").write_text(json.dumps(definition, indent=1) + "\n")
     errors = []

@@ -336,8 +336,9 @@ def test_an_explicit_case_streams_its_frames_and_energies(tmp_path):
 
 def test_an_explicit_case_has_a_history_row_per_frame_named_as_its_energies(tmp_path):
     """An explicit run streams its 11 frames and keeps two in memory: history.csv still has
-    a row per frame of the series (at its times), and the quantities history.csv and
-    energies.csv share (time, energies, the force on a tool) have the same column names."""
+    a row per frame of the series (at its times), summary.json counts its 11 frames, and the
+    quantities history.csv and energies.csv share (time, energies, the force on a tool) have
+    the same column names."""
     text = CANTILEVER.replace(
         'kind = "static"\nincrements = 1',
         'kind = "explicit"\nduration = 0.004\noutput_interval = 0.0004\ndamping = 100.0',
@@ -349,6 +350,8 @@ def test_an_explicit_case_has_a_history_row_per_frame_named_as_its_energies(tmp_
     with open(tmp_path / "out" / "history.csv") as handle:
         rows = list(csv.DictReader(handle))
     assert len(rows) == pvd.count("<DataSet") == 11
+    summary = strict_load((tmp_path / "out" / "summary.json").read_text())
+    assert summary["frames"] == run.summary["frames"] == 11  # the series', not the memory's 2
     times = [float(t) for t in re.findall(r'timestep="([^"]+)"', pvd)]
     assert [float(row["time"]) for row in rows] == times
     assert [int(row["frame"]) for row in rows] == list(range(11))

@@ -189,6 +189,55 @@ def test_a_fit_on_a_scheduler_that_does_not_answer_is_refused_before_any_run(tmp
     assert not out.exists()
 
 
+def test_a_rerun_into_the_folder_leaves_only_its_own_results_and_the_user_s_files(
+    small_comparison, tmp_path
+):
+    """A fibrous-only comparison into the folder of a fibrous-and-Mindlin one (with a fit's
+    folder and a figure of a path no longer in the case): the old mindlin/ and fit/ and that
+    figure go, the user's own files stay (and the folder that holds one)."""
+    import shutil
+
+    out = tmp_path / "out"
+    shutil.copytree(small_comparison[0], out)
+    (out / "fit").mkdir()
+    for name in ("identify.json", "fit.png"):
+        (out / "fit" / name).write_text("old")
+    earlier = _read(out)
+    earlier["figures"].append("path-gone.png")
+    (out / "comparison.json").write_text(json.dumps(earlier))
+    (out / "path-gone.png").write_text("old")
+    (out / "notes.txt").write_text("mine")
+    (out / "path-sketch.png").write_text("mine")  # not a figure the comparison listed
+    (out / "fibrous" / "notes.txt").write_text("mine")
+    assert (out / "mindlin" / "summary.json").is_file()
+    text = PLY_STRIP.replace("nx = 10", "nx = 4").replace("lx = 200.0", "lx = 40.0")
+    compare_case(_case(tmp_path, text.replace("x_min = 200.0", "x_min = 40.0")), out,
+                 progress=False, kinematics="fibrous")  # fmt: skip
+    assert sorted(p.name for p in out.iterdir()) == [
+        "comparison.json", "fibrous", "notes.txt", "path-edge.png", "path-sketch.png",
+        "view-3d.png",
+    ]  # fmt: skip
+    assert list(_read(out)["kinematics"]) == ["fibrous"]
+    assert (out / "fibrous" / "notes.txt").read_text() == "mine"
+
+
+def test_the_fit_s_interval_is_printed_with_the_digits_that_keep_its_value_inside():
+    """comparison.json's fit of bending_scale 1.00204 in [1.00100, 1.00308] printed to three
+    digits read "1.002 (95 %: 1 to 1)": an interval without its own value; an interval the
+    data cannot give (NaN, null in comparison.json, which the command prints from) is said."""
+    from fibreshell.compare import summary_lines
+
+    fit = {"path": "edge", "residual_rms_mm": 0.01, "evaluations": 9,
+           "values": {"bending_scale": 1.00204, "transverse_shear": 83.3},
+           "confidence_95": {"bending_scale": [1.00100, 1.00308],
+                             "transverse_shear": [None, None]}}  # fmt: skip
+    comparison = {"calibration": {"name": "fit", "rule": "fitted", "numbers": {"fit": fit}},
+                  "differences": {}}  # fmt: skip
+    lines = summary_lines(comparison)
+    assert "    bending_scale = 1.002 (95 %: 1.001 to 1.003)" in lines
+    assert "    transverse_shear = 83.3 (no interval: the data cannot tell)" in lines
+
+
 def test_bad_options_are_refused(tmp_path):
     case = _case(tmp_path)
     with pytest.raises(ValueError, match="calibration must be one of laws, fit, initial-slope"):

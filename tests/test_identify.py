@@ -124,6 +124,23 @@ def test_a_profile_needs_its_path_named_when_the_case_has_several():
         identify(case, {"x": [1.0], "z": [0.0]}, {"part.0.material.bending": None})
 
 
+def test_a_narrow_interval_is_printed_with_the_digits_that_keep_its_value_inside():
+    """A value known to 3e-7 of itself: six digits printed "2 (start 1), 95 % interval [2,
+    2]"; the printed ends differ from the printed value, as the numbers do."""
+    from fibreshell.identify import Identification, format_result
+
+    found = Identification(
+        keys=["part.0.material.bending", "mesh.rectangle.lx"], start=np.array([1.0, 50.0]),
+        values=np.array([2.0000004, 60.0]), standard_errors=np.array([1.5e-7, np.nan]),
+        intervals=np.array([[2.0000001, 2.0000007], [np.nan, np.nan]]), residual_rms=0.1,
+        success=True, message="done", evaluations=5, runs=5, wall_time_s=1.0, responses=["z"],
+    )  # fmt: skip
+    printed = format_result(found).splitlines()
+    assert printed[0] == ("part.0.material.bending = 2.0000004 (start 1), "
+                          "95 % interval [2.0000001, 2.0000007]")  # fmt: skip
+    assert printed[1].startswith("mesh.rectangle.lx = 60 (start 50), no interval")
+
+
 def test_start_values_come_from_the_case():
     case = strip(60.0, 4, 0.1, 1e-10)
     assert start_values(case, {"part.0.material.bending": None, "mesh.rectangle.lx": 5}) == (

@@ -1,6 +1,7 @@
 """Node sets of a case file by bounds (fibreshell/case_sets.py): a bound in mesh units or as a
 share of the mesh's extent ("100%"), so that a sweep over the mesh's size keeps its sets; and
-bounds that select nothing are an error naming the set, the bound and the mesh's extent."""
+bounds that select nothing are an error naming the set, the bound and the mesh's extent; a path
+is a line of nodes, one at each position along it, or an error."""
 
 import copy
 from pathlib import Path
@@ -9,7 +10,7 @@ import numpy as np
 import pytest
 
 from fibreshell.case import CaseError, case_from_data, read_case_data
-from fibreshell.case_sets import BoundsError, select_by_bounds
+from fibreshell.case_sets import BoundsError, order_path, select_by_bounds
 from fibreshell.sweep import apply_overrides
 
 CASES = Path(__file__).parents[1] / "cases"
@@ -68,6 +69,39 @@ def test_relative_bounds_work_wherever_nodes_are_selected_fixes_and_paths_too():
     assert np.array_equal(np.sort(case.fixes[0]["nodes"]), np.sort(case.mesh.nodes("left")))
     assert np.all(case.mesh.points[case.paths["centre"], 1] == 30.0)
     assert np.all(np.diff(case.mesh.points[case.paths["centre"], 0]) > 0)  # along x
+
+
+# ---------------------------------------------------------------------- paths
+def test_a_path_that_is_an_area_is_refused_with_its_nodes_per_position():
+    """y_min = "0%" without y_max selects the whole 8 x 2-cell strip: 27 nodes at 9 positions
+    along x, which the profiles would zigzag across (s 0, 30, ... on a strip of 200 mm)."""
+    data = strip({}, output={"paths": {"edge": {"y_min": "0%"}}})
+    with pytest.raises(CaseError) as caught:
+        case_from_data(data, "strip.toml")
+    said = str(caught.value)
+    assert said.startswith("strip.toml: [output.paths.edge]: not a line: 27 of its 27 nodes ")
+    assert "share 9 positions along x" in said and "(the first: 3 nodes at x = 0)" in said
+    two_rows = strip({}, output={"paths": {"edge": {"y_max": "50%"}}})  # 18 nodes, 2 per x
+    with pytest.raises(CaseError, match="18 of its 18 nodes share 9 positions along x"):
+        case_from_data(two_rows, "strip.toml")
+    one_row = strip({}, output={"paths": {"edge": {"y_max": "0%"}}})
+    edge = case_from_data(one_row, "strip.toml").paths["edge"]
+    assert len(edge) == 9
+
+
+def test_a_curved_line_of_nodes_is_a_path_ordered_along_its_longest_extent():
+    """A quarter circle's nodes (an arc of a meshed part, in any order) share no position
+    along x: a path, ordered by x; a diagonal is ordered along its longer side."""
+    angles = np.radians([90.0, 0.0, 30.0, 75.0, 45.0, 10.0, 60.0])
+    arc = np.column_stack([50.0 * np.cos(angles), 50.0 * np.sin(angles), np.zeros(7)])
+    ordered = order_path(arc, np.arange(7))
+    assert np.all(np.diff(arc[ordered, 0]) > 0) and ordered.tolist() == [0, 3, 6, 4, 2, 5, 1]
+    diagonal = np.column_stack([np.linspace(0, 10, 5)[::-1], np.linspace(0, 40, 5)[::-1],
+                                np.zeros(5)])  # fmt: skip
+    assert order_path(diagonal, np.arange(5)).tolist() == [4, 3, 2, 1, 0]
+    corner = np.array([[0.0, 0.0, 0.0], [10.0, 0.0, 0.0], [10.0, 5.0, 0.0]])  # a bend: 2 at x=10
+    with pytest.raises(BoundsError, match="2 of its 3 nodes share 1 position along x"):
+        order_path(corner, np.arange(3))
 
 
 # ---------------------------------------------------------------------- errors

@@ -133,18 +133,25 @@ def test_fibreshell_run_sweep_and_report_refuse_an_out_under_a_file(tmp_path, ca
 
 
 # ---------------------------------------------------------------------- reused folders
-def test_a_reused_output_folder_keeps_no_file_of_the_previous_run(tmp_path):
+def test_a_reused_output_folder_keeps_no_file_of_the_previous_run_and_every_file_of_the_user(
+    tmp_path,
+):
+    """The files a run writes go by their exact names (the frames by their numbered
+    pattern); a user's results_measured.vtu, result_scan.vtu and notes.part are not those."""
     out = tmp_path / "out"
     out.mkdir()
     stale = ["result_0009.vtu", "result_00012.vtu", "energies.csv", "checkpoint.pkl",
-             "result.pvd.part"]  # fmt: skip
-    for name in stale + ["notes.txt"]:
+             "result.pvd.part", "checkpoint.pkl.part"]  # fmt: skip
+    mine = ["notes.txt", "results_measured.vtu", "result_scan.vtu", "notes.part",
+            "result_01.vtu", "result.vtu"]  # fmt: skip
+    for name in stale + mine:
         (out / name).write_text("old")
     run_case(load_case(case_file(tmp_path, STATIC)), out, progress=False)
     left = sorted(path.name for path in out.iterdir())
-    assert left == ["history.csv", "notes.txt", "result.pvd", "result_00000.vtu",
-                    "result_00001.vtu", "result_00002.vtu", "result_00003.vtu",
-                    "summary.json"]  # fmt: skip
+    written = ["history.csv", "result.pvd", "result_00000.vtu", "result_00001.vtu",
+               "result_00002.vtu", "result_00003.vtu", "summary.json"]  # fmt: skip
+    assert left == sorted(written + mine)
+    assert all((out / name).read_text() == "old" for name in mine)
 
 
 # ---------------------------------------------------------------------- case files
@@ -169,6 +176,34 @@ def test_checkpoint_options_of_a_case_file(tmp_path):
     ):  # fmt: skip
         with pytest.raises(CaseError, match=rf"\[solver\.{key}\]"):
             load_case(case_file(tmp_path, text))
+
+
+@pytest.mark.parametrize(
+    "name, taken",
+    [("result.pvd", "result.pvd"), ("history.csv", "history.csv"),
+     ("./summary.json", "summary.json"), ("energies.csv", "energies.csv"),
+     ("result_00003.vtu", "result_00003.vtu"), ("sub/../result.pvd.part", "result.pvd.part"),
+     ("variant.json", "variant.json")],
+)  # fmt: skip
+def test_a_checkpoint_named_as_a_file_the_run_writes_is_refused_naming_that_file(
+    tmp_path, name, taken
+):
+    """A checkpoint named result.pvd turned the series into a pickle, one named history.csv
+    was overwritten by the history while summary.json named it as the checkpoint."""
+    text = CASE.replace("damping = 100.0", f"damping = 100.0\ncheckpoint = {name!r}")
+    with pytest.raises(CaseError, match=rf"\[solver\.checkpoint\]: .* would overwrite '{taken}'"):
+        load_case(case_file(tmp_path, text))
+
+
+def test_a_checkpoint_path_that_lands_on_an_output_is_refused_before_the_run(tmp_path):
+    out = tmp_path / "out"
+    for name in (str(out / "history.csv"), "../out/result.pvd"):
+        text = CASE.replace("damping = 100.0", f"damping = 100.0\ncheckpoint = {name!r}")
+        with pytest.raises(ValueError, match=r"would overwrite '(history.csv|result.pvd)'"):
+            run_case(load_case(case_file(tmp_path, text)), out, progress=False)
+    assert not (out / "history.csv").exists() and not (out / "result.pvd").exists()
+    elsewhere = CASE.replace("damping = 100.0", "damping = 100.0\ncheckpoint = 'saved/result.pvd'")
+    assert load_case(case_file(tmp_path, elsewhere)).solver["checkpoint"] == "saved/result.pvd"
 
 
 def test_resume_without_a_checkpoint_is_refused(tmp_path, capsys):

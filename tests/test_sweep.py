@@ -246,6 +246,34 @@ def test_a_sweep_in_process_gives_the_cluster_s_rows(paired_sweep, tmp_path, mon
     assert (tmp_path / "variant-004" / "summary.json").is_file()
 
 
+def test_a_sweep_into_a_used_folder_leaves_none_of_an_earlier_sweep_s_variants(tmp_path):
+    """An earlier sweep's variant-000 to variant-002 (each with its variant.json, its run's
+    files and a checkpoint its summary.json names) beside a sweep of one variant: the folder
+    then holds that one variant; a user's own file keeps its folder (with that file alone),
+    a folder the sweep did not write (no variant.json) stays as it was."""
+    for k in range(3):
+        old = tmp_path / f"variant-00{k}"
+        old.mkdir()
+        (old / "variant.json").write_text(json.dumps({"case": "x", "overrides": {"k": k}}))
+        (old / "summary.json").write_text(json.dumps({"checkpoint": str(old / "saved.pkl")}))
+        for name in ("result.pvd", "result_00000.vtu", "history.csv", "saved.pkl"):
+            (old / name).write_text("old")
+    (tmp_path / "variant-002" / "notes.txt").write_text("mine")
+    (tmp_path / "variant-009").mkdir()
+    (tmp_path / "variant-009" / "summary.json").write_text("mine")
+    vary = {"part.0.material.bending": [20.0]}
+    table = sweep(cantilever(), vary, out=tmp_path, progress=False, in_process=True)
+    assert table.failed == []
+    assert sorted(p.name for p in tmp_path.iterdir()) == [
+        "sweep.csv", "sweep.json", "variant-000", "variant-002", "variant-009",
+    ]  # fmt: skip
+    record = json.loads((tmp_path / "variant-000" / "variant.json").read_text())
+    assert record["overrides"] == {"part.0.material.bending": 20.0}
+    assert not (tmp_path / "variant-000" / "saved.pkl").exists()
+    assert [p.name for p in (tmp_path / "variant-002").iterdir()] == ["notes.txt"]
+    assert (tmp_path / "variant-009" / "summary.json").read_text() == "mine"
+
+
 def test_a_variant_without_a_folder_writes_no_frames_and_gives_the_same_row(tmp_path, monkeypatch):
     # A sweep without an output folder throws each variant's folder away: its static run
     # writes no frame series there (run_case(write_frames=False)), and its row is the row of

@@ -1,0 +1,98 @@
+"""The files a run writes in its output folder, by their exact names, and their removal before
+a new run writes there: a reused folder keeps the user's own files (README "Stopping,
+resuming, output folders": other files stay), and a checkpoint may not take the name of a
+file the run writes beside it.
+
+A run (``fibreshell.run.run_case``) writes ``result.pvd`` and its frames ``result_<k>.vtu``
+(k zero-padded to 5 digits by a streamed series, 4 by ``Result.write``; more digits past
+99 999 frames), ``history.csv``, ``summary.json``, ``energies.csv`` (explicit runs), its
+checkpoint, and for a moment ``<name>.part`` beside the series index and the checkpoint
+(solvers/output.py writes them whole and renames them over the file). ``fibreshell sweep``
+adds ``variant.json`` to each variant's folder, the plies of ``fibreshell compare``
+``material-lines.vtu`` to theirs; an identification (and compare's fit) writes
+``identify.json`` and ``fit.png``."""
+
+from __future__ import annotations
+
+import json
+import os
+import re
+from pathlib import Path, PurePath
+
+__all__ = [
+    "DEFAULT_CHECKPOINT", "IDENTIFY_FILES", "MATERIAL_LINES", "RUN_FILES", "VARIANT_FILE",
+    "checkpoint_collision", "clean_run", "is_run_output", "remove_run_folder",
+]  # fmt: skip
+
+# The checkpoint of explicit and relaxation runs unless [solver] checkpoint names another.
+DEFAULT_CHECKPOINT = "checkpoint.pkl"
+# The files of a run's folder by name (the frames are FRAME_FILE).
+RUN_FILES = ("result.pvd", "history.csv", "energies.csv", "summary.json")
+# A frame of the series: result_0000.vtu (Result.write), result_00000.vtu (a streamed series).
+FRAME_FILE = re.compile(r"result_[0-9]{4,}\.vtu")
+# A sweep's record of a variant, in the variant's run folder (fibreshell.sweep.run_variant).
+VARIANT_FILE = "variant.json"
+# The stack's mid-surface beside the plies' series (fibreshell.plies.write_material_lines).
+MATERIAL_LINES = "material-lines.vtu"
+# What an identification writes in its folder (fibreshell.identify.identify): the fit and
+# its figure.
+IDENTIFY_FILES = ("identify.json", "fit.png")
+
+
+def is_run_output(name: str) -> bool:
+    """Whether the file name ``name`` (no folder) is one a run writes: RUN_FILES, a frame of
+    its series (FRAME_FILE), or the series index's temporary ``result.pvd.part``."""
+    return name in RUN_FILES or name == "result.pvd.part" or FRAME_FILE.fullmatch(name) is not None
+
+
+def checkpoint_collision(name: str | os.PathLike[str]) -> str | None:
+    """What a checkpoint at ``name`` (relative to the output folder) would overwrite, in
+    words ("'result.pvd', which the run writes in the output folder"), or None: a checkpoint named
+    ``result.pvd`` would turn the ParaView series into a pickle, one named ``history.csv``
+    be overwritten by the history at the end of the run."""
+    path = PurePath(os.path.normpath(name))
+    if len(path.parts) != 1:  # in a subfolder, or outside the folder
+        return None
+    if is_run_output(path.name):
+        return f"{path.name!r}, which the run writes in the output folder"
+    if path.name == VARIANT_FILE:
+        return f"{path.name!r}, which a sweep writes in each variant's folder"
+    return None
+
+
+def clean_run(out: Path, checkpoint: Path | None, extra: tuple[str, ...] = ()) -> None:
+    """Remove from the folder ``out`` the files a run writes there (``is_run_output``), the
+    default checkpoint (an earlier run of another kind may have left it), ``checkpoint`` and
+    the temporary ``.part`` of each checkpoint, and the files named in ``extra``; nothing else
+    (a user's ``result_scan.vtu`` or ``notes.part`` stays)."""
+    if not out.is_dir():
+        return
+    stale = [path for path in out.iterdir() if is_run_output(path.name)]
+    stale += [out / name for name in extra]
+    for saved in (out / DEFAULT_CHECKPOINT, checkpoint):
+        if saved is not None:
+            stale += [saved, saved.with_name(saved.name + ".part")]
+    for path in stale:
+        if not path.is_dir():
+            path.unlink(missing_ok=True)
+
+
+def remove_run_folder(folder: Path, extra: tuple[str, ...] = ()) -> None:
+    """Remove a folder an earlier command wrote a run into: the run's files (``clean_run``,
+    with the checkpoint its summary.json names when that is in the folder), the files named
+    in ``extra`` (what the command added beside the run), then the folder itself if nothing
+    else is left in it (a user's own file keeps it)."""
+    if not folder.is_dir():
+        return
+    checkpoint = None
+    try:
+        named = json.loads((folder / "summary.json").read_text()).get("checkpoint")
+    except (OSError, ValueError, AttributeError):
+        named = None
+    if isinstance(named, str) and Path(named).parent.resolve() == folder.resolve():
+        checkpoint = folder / Path(named).name
+    clean_run(folder, checkpoint, extra)
+    try:
+        folder.rmdir()
+    except OSError:  # not empty: the user's files stay, and the folder with them
+        pass
