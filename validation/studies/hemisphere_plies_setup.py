@@ -104,7 +104,9 @@ DURATION = 0.1  # s: the fibrous plies' stroke
 # slower to reach their quasi-static answer (x4: x2 snaps late in the stroke, its end measures
 # chance, validation/studies/hemisphere_plies_pace_scatter.py; x4 agrees with x8,
 # tests/test_hemisphere_plies_pace.py); the [0/45] ones have none the pace converges to (the
-# case's docstring, "The Mindlin runs' pace").
+# case's docstring, "The Mindlin runs' pace"). x2 with the damping raised to 80-100/s held the
+# slips and draw-ins but put the late punch force 0.7-2.4 % above x8's (docs/hemisphere_forming.md,
+# "Damping the two plies' snap: tried and not kept").
 STROKE_SLOWING = {("0/90", "mindlin"): 4.0}
 # The Mindlin plies' rotary inertia per layup's angles (docs/theory.md §6.2 B2; the closed
 # form, True, where not listed). None listed: on [0/90] the element rule needed the stroke
