@@ -37,7 +37,7 @@ from validation.checks import check
 from validation.records import Figure, Outcome
 from validation.references.drape import fishnet_on_sphere, net_coordinates
 from validation.studies.hemisphere_plies_energy import kinetic_shares
-from validation.studies.hemisphere_plies_gaps import least_gaps, through_holder
+from validation.studies.hemisphere_plies_gaps import least_gaps, order_check, through_holder
 from validation.studies.hemisphere_plies_setup import (
     DAMPING,
     DIE,
@@ -427,18 +427,7 @@ def run(
                 source=SOURCE,
             )
         )
-    checks.append(
-        check(
-            f"{key}: the top ply's least node gap to the bottom ply's face in the die along "
-            "the radius, its penetration within the ply thickness: the mid-surfaces stay in "
-            "order (mm)",
-            0.0,
-            min(crossing["in_die"], 0.0),
-            THICKNESS,
-            relative=False,
-            source="the plies cannot pass through each other",
-        )
-    )
+    checks.append(order_check(key, crossing["in_die"]))
     checks.append(
         check(
             f"{key}: the share of the run after its first tenth with a kinetic energy above "
