@@ -648,8 +648,8 @@ def _kinetic_figure(data: PliesData, out_dir: Path) -> Figure:
         look = " and how much of that the rotation holds"
     else:
         rotation = (
-            " (no run's part in the directors' rotation reaches a thousandth of the work: "
-            "none is drawn)"
+            "; no run's part in the directors' rotation reaches a thousandth of the work, so "
+            "none is drawn"
         )
         look = ""
     return Figure(
