@@ -18,9 +18,9 @@ from elements.layup import Layup, ply_element
 from solvers.quasi_static import KINETIC_BOUND
 from validation.studies import hemisphere_plies as study
 from validation.studies.hemisphere_plies_energy import kinetic_shares
-from validation.studies.hemisphere_plies_gaps import through_holder
+from validation.studies.hemisphere_plies_gaps import CLEARANCE, order_check, through_holder
 from validation.studies.hemisphere_plies_run import NAME, run_key
-from validation.studies.hemisphere_plies_setup import FABRIC
+from validation.studies.hemisphere_plies_setup import FABRIC, THICKNESS
 
 
 def _stack_holds(report: dict, name: str) -> None:
@@ -150,6 +150,22 @@ def _corner_lifted_through_the_holder():
         SimpleNamespace(time=0.05, positions=lifted, tool_displacements=moved),
     ]
     return layup, corner, SimpleNamespace(frames=frames)
+
+
+@pytest.mark.parametrize(
+    ("gap", "passed"),
+    [(0.0155, True), (-0.1324, True), (-0.31, False), (0.31, False), (-2.85, False)],
+)
+def test_the_plies_order_check_shows_the_radial_gap_it_judges_unclipped(gap, passed):
+    """The check judges and shows the top ply's least radial gap in the die as measured: the
+    coarse report's [0/45] +0.0155 mm showed 0.0 (min(gap, 0)), its [0/90] -0.132 mm. Within
+    a ply thickness of touching passes: at -h the top node is at the bottom ply's mid-surface
+    (-2.85 mm, the flat facets' figure of that [0/45] run, would fail); at +h no top node in
+    the die touches the bottom ply, which the tools' clearance, one ply, leaves no room for."""
+    judged = order_check("0/45 fibrous 20 N", gap)
+    assert judged.value == gap and judged.reference == 0.0 and judged.passed is passed
+    assert judged.tolerance == THICKNESS and not judged.relative
+    assert CLEARANCE == pytest.approx(THICKNESS, rel=1e-12)
 
 
 def test_the_rise_through_the_holder_is_the_face_above_the_holders_face_under_its_ring():

@@ -22,10 +22,17 @@ middle from cornered to taut (-13 % of its draw-in), and 32 cells was not measur
 
 from __future__ import annotations
 
-from solvers.quasi_static import KINETIC_BOUND
+from solvers.quasi_static import KINETIC_BOUND, KINETIC_SHARE
 from validation.checks import check
 
-__all__ = ["KINETIC_MARGIN", "TIME_SCALING", "kinetic_margin_check", "stroke_words"]
+__all__ = [
+    "DAMPING_NOTED",
+    "KINETIC_MARGIN",
+    "TIME_SCALING",
+    "kinetic_margin_check",
+    "quasi_static_words",
+    "stroke_words",
+]
 
 # The stroke run this many times faster, per kinematics and resolution (in the process
 # duration / s; the punch's amplitude and the holder's closing follow it, the damping c
@@ -38,6 +45,11 @@ TIME_SCALING = {
 # margin a time scaling must keep (x2 gave at most 0.033, x3 0.073; the unscaled fine meshes
 # 0.016).
 KINETIC_MARGIN = 0.5
+# A damper's share of the work above which a run's forces carry its drag, as the figures' text
+# says: the bound's tenth (measured: fibrous 0.25-2.2 % at 12-32 cells, Mindlin 4.6 % at 20
+# cells, 18.5 % at 12, where its flange rings; docs/hemisphere_forming.md, "The coarse Mindlin
+# run's pace").
+DAMPING_NOTED = 0.1
 
 
 def stroke_words(duration: float, speed: dict[str, float], runs: dict[str, dict]) -> str:
@@ -71,3 +83,37 @@ def kinetic_margin_check(kinematics: str, speed: float, record: dict):
         relative=False,
         source="validation/forming_scaling.py: KE / W 0.026-0.033 at x2, 0.067-0.073 at x3",
     )
+
+
+def quasi_static_words(results: dict) -> str:
+    """How quasi-static each run of ``results`` (kinematics -> solver result, with
+    ``info["quasi_static"]`` and the ``energies`` record) was, in words for a figure's
+    caption: its largest KE / W after the first tenth, the share of the judged stroke above
+    KINETIC_BOUND and the damper's share of the work; and, for a run outside the case's rule
+    (at most KINETIC_SHARE of the stroke above the bound), above the bound at its peak, or
+    whose damper took more than DAMPING_NOTED of the work, what that does to its forces."""
+    words, flagged = [], []
+    for kinematics, result in results.items():
+        quasi = result.info["quasi_static"]
+        largest, share = quasi["kinetic_over_work_largest"], quasi["exceeded_share"]
+        energies = result.energies
+        damped = float(energies["damping"][-1] / energies["external_work"][-1])
+        above = "none" if not share else f"{share:.1%}"
+        words.append(
+            f"{kinematics} largest KE / W {largest:.3f}, {above} of the stroke above "
+            f"{KINETIC_BOUND:g}, damping {damped:.1%} of the work"
+        )
+        if share is None or share > KINETIC_SHARE:
+            flagged.append(f"the {kinematics} run is not quasi-static by the case's rule")
+        elif largest > KINETIC_BOUND or damped > DAMPING_NOTED:
+            flagged.append(
+                f"the {kinematics} run passes the rule but rises to KE / W {largest:.2f} and "
+                f"its damper took {damped:.0%} of the work: its force carries inertia and "
+                "drag, not the quasi-static answer's level alone"
+            )
+    rule = (
+        f"How quasi-static the runs were (the case's rule: at most {KINETIC_SHARE:.0%} of the "
+        f"stroke after its first tenth with KE / W above {KINETIC_BOUND:g}): "
+    )
+    verdict = "; ".join(flagged) + "." if flagged else "both are quasi-static."
+    return rule + "; ".join(words) + ". " + verdict[0].upper() + verdict[1:]

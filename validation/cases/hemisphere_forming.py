@@ -674,18 +674,20 @@ def combine(resolution: str, made: dict[str, Any]) -> Outcome:
                     f"to the flange, {FIBRE_STRAIN:.0%} of fibre strain, the cells' chords",
                 )
             )
-        if kinematics == "fibrous":
-            checks.append(
-                check(
-                    f"{kinematics}: the share of the stroke after its first tenth with a "
-                    f"kinetic energy above {KINETIC_BOUND:g} of the work (quasi-static)",
-                    0.0,
-                    record["kinetic_exceeded_share"],
-                    KINETIC_SHARE,
-                    relative=False,
-                    source="solvers/quasi_static.py: KE / W",
-                )
+        # Both runs: the Mindlin one is not time-scaled, but its flange rings near the bound
+        # at 12 cells (module docstring of validation/forming_scaling.py).
+        checks.append(
+            check(
+                f"{kinematics}: the share of the stroke after its first tenth with a "
+                f"kinetic energy above {KINETIC_BOUND:g} of the work (quasi-static)",
+                0.0,
+                record["kinetic_exceeded_share"],
+                KINETIC_SHARE,
+                relative=False,
+                source="solvers/quasi_static.py: KE / W",
             )
+        )
+        if kinematics == "fibrous":
             checks.append(kinetic_margin_check(kinematics, speed[kinematics], record))
     every = list(runs.items()) + [(f"{k} n = {n}", r) for (k, n), r in extra.items()]
     for label, record in every:

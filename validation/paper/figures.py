@@ -266,6 +266,31 @@ def laws_figure(case: PaperCase, runs: PaperRuns, out_dir: Path) -> Figure:
     )
 
 
+# The 3D view (elevation, azimuth; deg): from the free corner's side, the sides sloping away
+# (a corner sagging below its clamp, a cantilever's fall).
+VIEW = (22.0, -140.0)
+# A corner lifted above its clamp (bai-6.1.1, 6.2.1) rises towards that viewer at about the
+# view's elevation, so its surface showed as a sliver, its 40-mm lift hidden and its director
+# segments all looking vertical. Seen from beyond side 1 (y = 0), the far end of its clamp on
+# the right, its rise along side 1 is in profile and the directors' lean along it shows.
+LIFTED_VIEW = (20.0, -55.0)
+# The axes box enlarged in its panel (matplotlib draws it at 0.8 of it, ticks outside).
+ZOOM = 1.2
+
+
+def _lifted(specimen: specimens.Specimen, results: dict[str, Any]) -> bool:
+    """Whether ``specimen`` is a corner (two filmed sides) whose loaded nodes end above its
+    clamp by more than a tenth of its plan size in any run of ``results`` (not a sag)."""
+    if "side_2" not in specimen.sides or not len(specimen.loaded):
+        return False
+    plan = np.ptp(specimen.mesh.points[:, :2], axis=0).max()
+    rises = [
+        r.positions[specimen.loaded, 2].mean() - r.positions[specimen.clamp, 2].mean()
+        for r in results.values()
+    ]
+    return bool(max(rises) > 0.1 * plan)
+
+
 def view_3d(
     case: PaperCase, specimen: specimens.Specimen, results: dict[str, Any], out_dir: Path
 ) -> Figure:
@@ -278,6 +303,8 @@ def view_3d(
     fig = plt.figure(figsize=(9.0, 8.0), layout="constrained")
     fig.get_layout_engine().set(h_pad=0.3)  # room for the upper panels' y labels
     h = case.fabric.thickness
+    lifted = _lifted(specimen, results)
+    elevation, azimuth = LIFTED_VIEW if lifted else VIEW
     for i, kinematics in enumerate(KINEMATICS):
         ax = fig.add_subplot(2, 2, i + 1, projection="3d")
         result = results[kinematics]
@@ -306,10 +333,10 @@ def view_3d(
             setter(a, b)
         extent = high - low
         exaggeration = max(1.0, (extent[:2].max() / 3.0) / extent[2])
-        ax.set_box_aspect((extent[0], extent[1], extent[2] * exaggeration))
+        ax.set_box_aspect((extent[0], extent[1], extent[2] * exaggeration), zoom=ZOOM)
         for axis in (ax.xaxis, ax.yaxis, ax.zaxis):  # few ticks on a short axis
             axis.set_major_locator(MaxNLocator(nbins=4))
-        ax.view_init(elev=22, azim=-140)
+        ax.view_init(elev=elevation, azim=azimuth)
         # The z label only in the left column: a 3D axes' z label sits outside its box, over
         # the panel to its left, where it hid behind it.
         ax.set(xlabel="x (mm)", ylabel="y (mm)", zlabel="z (mm)" if i % 2 == 0 else "")
@@ -337,6 +364,22 @@ def view_3d(
     return Figure(
         name,
         f"The deformed {case.name} in 3D: the mid-surface with the through-thickness segments "
-        f"(black) along the filmed sides, for {IN_WORDS}, in (a), (b) and (c). Look at the black "
-        f"segments: {DIRECTORS}.",
+        f"(black, at their length: the thickness along the director) along the filmed sides, for "
+        f"{IN_WORDS}, in (a), (b) and (c). {_seen(specimen, lifted)} Look at the black segments: "
+        f"{DIRECTORS}.",
+    )
+
+
+def _seen(specimen: specimens.Specimen, lifted: bool) -> str:
+    """Where the 3D view of ``specimen`` looks from, in words (``LIFTED_VIEW`` or ``VIEW``)."""
+    elevation, _ = LIFTED_VIEW if lifted else VIEW
+    if not lifted:
+        return f"Seen {elevation:g} deg from above, from the side of x = 0 and y = 0."
+    side_1, _ = specimen.sides["side_1"]
+    far, near = specimen.mesh.points[side_1[[0, -1]], :2]
+    return (
+        f"Seen {elevation:g} deg from above, from beyond side 1 (y = 0), so that the lift is in "
+        f"profile: the lifted corner ({near[0]:g}, {near[1]:g}) at the left, its height read on "
+        f"the z axis, the clamp's end ({far[0]:g}, {far[1]:g}) at the right; side 1's segments "
+        "in front, side 2's (x = 0) running away at the back left."
     )

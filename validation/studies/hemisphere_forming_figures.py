@@ -11,6 +11,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from femcore.loads import smooth_step  # the punch's amplitude
+from validation.forming_scaling import quasi_static_words
 from validation.plots import figure, save
 from validation.records import Figure
 
@@ -111,7 +112,7 @@ def render(data: HemisphereData, out_dir: Path) -> list[Figure]:
             f"{NAME}-force.png",
             "The punch force against its travel for the fibrous and the Mindlin shell. Both "
             "rise as the blank is drawn into the die; compare their levels and where they "
-            "start to climb.",
+            f"start to climb. {quasi_static_words(data.runs)}",
         )
     )
     for kinematics, result in data.runs.items():

@@ -24,15 +24,24 @@ import numpy as np
 
 from elements.layup import Layup
 from femcore.state import State
+from validation.checks import check
+from validation.records import Check
 from validation.studies.hemisphere_plies_setup import (
+    DIE,
     FABRIC,
     HALF,
     HOLDER_RING,
     MEASURED_FACE,
+    PLIES,
+    PUNCH,
     THICKNESS,
 )
 
-__all__ = ["least_gaps", "node_gaps", "radial_gaps", "through_holder"]
+__all__ = ["least_gaps", "node_gaps", "order_check", "radial_gaps", "through_holder"]
+
+# The tools' clearance over the plies (the die's bowl less the punch and the plies), mm: in
+# the die a top ply node can stand off the bottom ply by at most this much.
+CLEARANCE = DIE - PUNCH - PLIES * THICKNESS
 
 #: barycentric slack of a ray through a triangle's edge or vertex (shared by its neighbours)
 EDGE_SLACK = 1e-9
@@ -214,3 +223,22 @@ def through_holder(
                     share = {"share": float(carried[j]), "share_at_s": float(frame.time)}
         out.append({**worst, **share} if stiffness is not None and force is not None else worst)
     return out
+
+
+def order_check(key: str, gap: float) -> Check:
+    """The check that the plies of the run ``key`` stay in order in the die at the end: the
+    top ply's least node ``gap`` (mm) to the bottom ply along the radius (``radial_gaps``),
+    as measured, within a ply thickness of touching (0). Below -THICKNESS a node has passed
+    the bottom ply's mid-surface; above +THICKNESS, no more than the tools' CLEARANCE, no
+    top node in the die touches the bottom ply."""
+    return check(
+        f"{key}: the top ply's least node gap to the bottom ply in the die along the radius "
+        "(r_b - r - h, its faces' distance), within a ply thickness of touching: at -h a node "
+        "has passed the bottom ply's mid-surface (the gaps to its curved face and to its flat "
+        "facets, which read their chords, are in the parameters) (mm)",
+        0.0,
+        gap,
+        THICKNESS,
+        relative=False,
+        source="the plies cannot pass through each other; the tools' clearance is one ply",
+    )
