@@ -148,7 +148,7 @@ class CentralDifference(StableStepRule):
         governs the force-driven tools' warning (solvers/tool_force_watch.py): over the last
         half of the run, each tool's contact force along its free axes against the force
         prescribed on it, at every step, is ``result.info["quasi_static"]["driven_tools"]``,
-        and a departure above TOOL_FORCE_SHARE = 0.1 (its ringing, its inertia) warns once
+        and a departure above TOOL_FORCE_SHARE = 0.2 (its ringing, its inertia) warns once
         unless the bound is None.
     process_duration : s, the duration of the real process, when ``duration`` is shorter
         (time scaling): the factor process_duration / duration is reported with its KE / W.

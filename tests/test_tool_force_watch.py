@@ -135,13 +135,12 @@ def test_the_pullout_with_a_ringing_holder_warns_and_its_summary_says_how_much(t
 
 
 @pytest.mark.slow
-def test_the_pullout_with_a_critically_damped_contact_is_silent(tmp_path):
-    """Critical damping on each contact node's spring damps the holder's own mode slowly (the
-    nodes' masses are a small part of the holder's): over 0.02 s (the reviewer's run) its force
-    has settled over the last half; 4e-4 measured, where the contact's damping = 0.2 still
-    swings 71-128 N there (a departure of 0.124: it warns). The fast counterpart: the
-    dashpot above."""
-    summary, messages = pullout(tmp_path, 1.0, 0.02)
+def test_the_reviewers_damped_pullout_is_silent(tmp_path):
+    """The holder's contact damping 0.2 over 0.02 s (the reviewer's run): its force still
+    swings 71-128 N over the last half (0.124 measured), a ringing whose energy is 2 d^2 = 0.03
+    of the springs' static energy, below the tenth TOOL_FORCE_SHARE stands for: reported, not
+    warned. The fast counterpart: the critical dashpot above."""
+    summary, messages = pullout(tmp_path, 0.2, 0.02)
     (tool,) = summary["quasi_static"]["driven_tools"]
-    assert tool["departure"] < 1e-2
+    assert 0.05 < tool["departure"] < TOOL_FORCE_SHARE
     assert not any(RINGING in m for m in messages)
