@@ -7,11 +7,13 @@ steps in one loop (so load changes hit both alike), per step, best of ``--repeat
 
     NUMBA_NUM_THREADS=1 python benchmarks/tool_force_watch.py --steps 300 --repeats 3
 
-Measured (2 cores shared with five other jobs, load 8-11, 300 steps x 3): explicit_step and
-commit 1.286 ms a step, observe 0.057 ms (4.4 % of it; 0.020 ms timed alone on a kept state,
-where the contact's forces are found kept as after the step). The watch observes the last half
-of a run only, and a whole run's step also writes its history and frames (3.5-3.7 ms a step
-on this model: benchmarks/forming_step_overhead.py), so the run's cost is about 1 % or less.
+Measured (2 cores shared with five other jobs, 300 steps x 3): load 8-11, explicit_step and
+commit 1.286 ms a step, observe 0.057 ms (4.4 % of it); load 2, 1.146 and 0.051 ms (4.5 %): the
+tools' pushes 21 us (the contact's kept forces read back; 8.5 us asked again at once), the
+prescribed loads 6 us (the holder's amplitude), the running sums the rest. The watch observes
+the last half of a run only, and a whole run's step also writes its history and frames
+(3.5-3.7 ms a step on this model: benchmarks/forming_step_overhead.py), so the run's cost is
+about 1 % or less.
 """
 
 from __future__ import annotations
