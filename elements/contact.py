@@ -617,6 +617,10 @@ class ContactBlock(InteractionBlock):
             return super().add_internal_force(state, history, force, moment)
         add_node_forces(self.connectivity, self._read_forces(state, history), force)
 
+    def tool_nodes(self) -> np.ndarray:
+        """(1,) the node of the tool's free translation, -1 for a tool without one."""
+        return np.array([-1 if self.tool_node is None else self.tool_node], dtype=np.int64)
+
     def tool_displacements(self, state: State, history: Any = None) -> np.ndarray:
         """(1, 3) the tool's translation from where it was given, mm: its prescribed motion
         and its free translation."""

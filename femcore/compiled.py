@@ -20,6 +20,7 @@ from femcore.compiled_loads import evaluate, fixed_mask, load_terms, prescribed_
 from femcore.compiled_tangent import CompiledTangent
 from femcore.diagnostics import interaction_notes, unheld_rigid_motions
 from femcore.dofs import DOF_NAMES, DofManager, dof_columns
+from femcore.driven_tools import DrivenTools
 from femcore.element import ElementBlock
 from femcore.interaction import Body, BodyPart, Interaction, InteractionBlock
 from femcore.memory import check_model_memory
@@ -200,6 +201,14 @@ class CompiledModel(CompiledTangent):
             self._weighed_mass[:, None] * np.asarray(vector) for _, vector in self._gravity_terms
         ]
         self._unloaded = np.flatnonzero(~active[:, 0])
+        #: The force-driven tools' nodes, their contact force and prescribed load
+        #: (femcore/driven_tools.py).
+        self.driven_tools = DrivenTools(
+            self.interactions,
+            self.translation_free,
+            self._load_terms,
+            list(zip((a for a, _ in self._gravity_terms), self._gravity_forces)),
+        )
 
     # ------------------------------------------------------------- construction helpers
     def _cells(self, entry: BlockEntry) -> np.ndarray:
@@ -399,6 +408,14 @@ class CompiledModel(CompiledTangent):
         if not forces:
             return np.zeros((0, 3))
         return np.concatenate([np.asarray(f, dtype=float).reshape(-1, 3) for f in forces])
+
+    def driven_tool_pushes(self, state: State) -> np.ndarray:
+        """(k, 3) the force (N) the force-driven tools press the body with at ``state``, one
+        row per tool node (``driven_tools.nodes``; its contacts summed): minus their rows of
+        ``tool_forces``."""
+        return self.driven_tools.pushes(
+            self.interactions, self._interaction_histories(state), state
+        )
 
     def tool_displacements(self, state: State) -> np.ndarray:
         """(n_tools, 3) each rigid tool's translation from where it was given (mm), in the

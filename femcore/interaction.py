@@ -20,8 +20,8 @@ Order of the calls a block receives: ``bind``, then once ``calibrate(mass, stabl
 penalty_step)`` with the elements' lumped masses, critical step and the step the automatic
 penalties are sized on, then, as a solver goes, ``internal_force``,
 ``strain_energy``, ``tangent``, ``update_history`` (state in, new history out), and the
-bookkeeping (``dissipated_energy``, ``tool_forces``, ``tool_displacements``, ``tool_work``,
-``node_fields``).
+bookkeeping (``dissipated_energy``, ``tool_forces``, ``tool_displacements``, ``tool_nodes``,
+``tool_work``, ``node_fields``).
 
 History: ``State.history`` holds one entry per part of the compiled model, the element blocks
 first, then the interactions (``CompiledModel.parts``); an interaction receives its entry and
@@ -295,6 +295,13 @@ class InteractionBlock(ReadOnlyState, ABC):
         prescribed motion and, for a force-driven tool, its free translation); zeros by
         default."""
         return np.zeros((self.n_tools, 3))
+
+    def tool_nodes(self) -> np.ndarray:
+        """(n_tools,) int, the node carrying each tool's free translation (a force-driven
+        tool's, ``Model.rigid_node``), -1 for a tool moved by its motion alone: how a solver
+        sets a tool's contact force beside the force prescribed on its node. All -1 by
+        default."""
+        return np.full(self.n_tools, -1, dtype=np.int64)
 
     def tool_work(self, state: State, history: Any, start: float, end: float) -> float:
         """Work (N mm) the block's moving tools do on the body while the load factor goes from

@@ -59,6 +59,7 @@ from solvers.output import (
 )
 from solvers.quasi_static import KINETIC_BOUND, kinetic_over_work, quasi_static_report
 from solvers.step import LumpedMasses, Step, explicit_step
+from solvers.tool_force_watch import ToolForceWatch
 
 __all__ = ["CentralDifference"]
 
@@ -143,7 +144,12 @@ class CentralDifference(StableStepRule):
         ``result.energies["kinetic_over_work"]``, and ``result.info["quasi_static"]`` reports it
         with the mass and time scaling. KE counts every mass in use, the directors' rotation on the
         (scaled) rotary inertia too; its rotational part is
-        ``result.energies["kinetic_rotational"]`` (docs/theory.md §6.3).
+        ``result.energies["kinetic_rotational"]`` (docs/theory.md §6.3). The same switch
+        governs the force-driven tools' warning (solvers/tool_force_watch.py): over the last
+        half of the run, each tool's contact force along its free axes against the force
+        prescribed on it, at every step, is ``result.info["quasi_static"]["driven_tools"]``,
+        and a departure above TOOL_FORCE_SHARE = 0.2 (its ringing, its inertia) warns once
+        unless the bound is None.
     process_duration : s, the duration of the real process, when ``duration`` is shorter
         (time scaling): the factor process_duration / duration is reported with its KE / W.
     """
@@ -400,6 +406,9 @@ class CentralDifference(StableStepRule):
                 checking=checking,
             )
             new, work = outcome.state, outcome.energy
+            tools = getattr(run, "tools", None)  # (absent from a run checkpointed without it)
+            if tools is not None:
+                tools.observe(compiled, state, dt)  # the step's forces, kept by the contacts
             reactions, reaction_moments = outcome.reactions, outcome.reaction_moments
             energy = run.energy
             # (the round-off's scale asked only of a step whose energy looks like a blow-up)
@@ -490,6 +499,7 @@ class CentralDifference(StableStepRule):
             frames=[make_frame(compiled, state)],
             strain_at_start=compiled.strain_energy(state),
             good=(state, None, None),
+            tools=ToolForceWatch(compiled, duration) if len(compiled.driven_tools) else None,
         )
         self._summarise(run, run.frames[0])
         return run
@@ -623,6 +633,12 @@ class CentralDifference(StableStepRule):
                 warn=converged,
             ),
         }
+        tools = getattr(run, "tools", None)
+        if tools is not None:
+            report = tools.report()
+            result.info["quasi_static"]["driven_tools"] = report
+            if converged and self._kinetic_bound(compiled) is not None:
+                tools.warn(report)
         result.energies["kinetic_over_work"] = kinetic_over_work(
             result.energies["kinetic"], result.energies["external_work"]
         )
@@ -688,6 +704,7 @@ class _Run:
     written: list = field(default_factory=list)  # the frame files of the stream
     history_rows: int = 0
     summaries: list = field(default_factory=list)  # (time, frame_summary(frame)) per frame
+    tools: ToolForceWatch | None = None  # the force-driven tools' forces over the last half
 
 
 def _roundoff(compiled: CompiledModel, run: _Run, dt: float) -> float:
