@@ -291,10 +291,10 @@ def test_a_relaxation_stopped_and_resumed_ends_as_one_never_stopped(tmp_path, mo
     reference = relaxation(increments=3).solve(cable())
     relax = DynamicRelaxation._relax
 
-    def killed_in_the_third(self, model, state, load_factor, masses, progress, increment):
+    def killed_in_the_third(self, model, state, load_factor, masses, progress, increment, *rest):
         if increment == 3:
             raise KeyboardInterrupt
-        return relax(self, model, state, load_factor, masses, progress, increment)
+        return relax(self, model, state, load_factor, masses, progress, increment, *rest)
 
     monkeypatch.setattr(DynamicRelaxation, "_relax", killed_in_the_third)
     with pytest.raises(KeyboardInterrupt):
