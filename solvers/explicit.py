@@ -166,16 +166,16 @@ class CentralDifference(StableStepRule):
         kinetic_bound: float | str | None = "auto",
         process_duration: float | None = None,
     ):
-        checked = check_positive_or_none(duration, "duration")
+        checked = check_positive_or_none(duration, "duration", "s")
         if checked is None:
             raise ValueError("duration must be a positive number of seconds")
         self.duration: float = checked
-        self.dt = check_positive_or_none(dt, "dt")
+        self.dt = check_positive_or_none(dt, "dt", "s")
         self.safety = check_fraction(safety, "safety")
         self.damping = check_non_negative(damping, "damping", "1/s, of C = c M")
-        self.mass_scaling_dt = check_positive_or_none(mass_scaling_dt, "mass_scaling_dt")
+        self.mass_scaling_dt = check_positive_or_none(mass_scaling_dt, "mass_scaling_dt", "s")
         self.max_added_mass = check_non_negative(max_added_mass, "max_added_mass", "a ratio")
-        self.output_interval = check_positive_or_none(output_interval, "output_interval")
+        self.output_interval = check_positive_or_none(output_interval, "output_interval", "s")
         self.progress = check_progress(progress)
         self.max_steps = check_integer(max_steps, "max_steps")
         self.output = None if output is None else output_path(output, ".pvd", "output")

@@ -86,6 +86,8 @@ def test_a_word_for_a_damping_is_a_value_error_naming_the_option():
         ("relaxation", 'damping = "high"', "damping", "unknown damping"),
         ("explicit", "max_steps = 2.5", "max_steps", "integer >= 1, got 2.5"),
         ("static", "max_cuts = true", "max_cuts", "integer >= 0, got True"),
+        # the unit in its brackets, never "()"
+        ("explicit", "dt = -0.001", "dt", r"positive finite number \(s\), got -0\.001"),
     ],
 )
 def test_a_bad_solver_option_in_a_case_file_names_the_file_table_and_key(
