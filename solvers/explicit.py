@@ -32,6 +32,7 @@ from solvers.blas_threads import one_blas_thread
 from solvers.common import (
     DivergenceError,
     ProgressLine,
+    SettingError,
     check_fraction,
     check_integer,
     check_non_negative,
@@ -513,20 +514,22 @@ class CentralDifference(StableStepRule):
             )
         total = compiled.element_mass
         if total > 0.0 and added_mass > self.max_added_mass * total:
-            raise ValueError(
+            raise SettingError(
+                "mass_scaling_dt",
                 f"mass_scaling_dt = {self.mass_scaling_dt:g} s would add {added_mass / total:.3g} "
                 f"times the elements' mass ({added_mass:.3g} on {total:.3g} t, the tools' "
                 "masses aside), more than "
                 f"max_added_mass = {self.max_added_mass:g}: the run would describe a much "
                 "heavier body. Choose a target step nearer the stable step, or raise "
-                "max_added_mass"
+                "max_added_mass",
             )
         steps = self.duration / dt
         if steps > self.max_steps:
-            raise ValueError(
+            raise SettingError(
+                "max_steps",
                 f"duration / dt = {self.duration:g} s / {dt:.3g} s = {steps:.4g} steps, more "
                 f"than max_steps = {self.max_steps}: raise dt (or mass_scaling_dt), shorten "
-                "the duration, or raise max_steps"
+                "the duration, or raise max_steps",
             )
 
     def _outputs(self, compiled: CompiledModel, run: _Run):
