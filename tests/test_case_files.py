@@ -447,10 +447,11 @@ def test_the_shipped_strip_over_a_cylinder_drapes_as_the_heavy_elastica(tmp_path
     assert float(rows[-1]["tool1_force_z"]) == pytest.approx(on_tool, rel=1e-12)
 
 
+# a sphere whose top touches the strip's underside (h / 2 = 0.1 mm below its mid-surface)
 CONTACT = """
 [[contact]]
 tool = "sphere"
-centre = [50.0, 5.0, -30.0]
+centre = [50.0, 5.0, -30.1]
 radius = 30.0
 friction = 0.2
 """
@@ -464,7 +465,7 @@ friction = 0.2
         ("radius = 30.0", "radius = 30.0\nnormal = [0.0, 0.0, 1.0]", r"unknown key 'normal'"),
         ("friction = 0.2", "friction = -0.2", r"\[contact\[0\].friction\]"),
         ("friction = 0.2", 'friction = 0.2\nnodes = "nowhere"', r"\[contact\[0\].nodes\]"),
-        ("centre = [50.0, 5.0, -30.0]", "centre = [50.0, 5.0]", r"\[contact\[0\].centre\]"),
+        ("centre = [50.0, 5.0, -30.1]", "centre = [50.0, 5.0]", r"\[contact\[0\].centre\]"),
         ("friction = 0.2", "friction = 0.2\nstick_stiffness = 0.0", r"\[contact\[0\].stick_"),
         ("friction = 0.2", "friction = 0.2\nstick_stiffness = 2.0", r"in \(0, 1\], got 2.0"),
         ("friction = 0.2", "friction = 0.2\ndamping = 1.5", r"\[contact\[0\].damping\]"),
@@ -488,7 +489,7 @@ def test_a_contact_table_builds_the_tool_of_its_python_twin(tmp_path):
     (contact,) = case.contacts
     assert contact["friction"] == 0.2 and contact["nodes"] is None
     tool = contact["tool"]
-    assert tool.radius == 30.0 and np.allclose(tool.centre, [50.0, 5.0, -30.0])
+    assert tool.radius == 30.0 and np.allclose(tool.centre, [50.0, 5.0, -30.1])
     model = case.model()
     assert model.interactions[-1].friction == 0.2
 
