@@ -86,7 +86,6 @@ quasi-static solvers, assembled, stepped and solved as any node's (docs/theory.m
 from __future__ import annotations
 
 import math
-import warnings
 from dataclasses import replace
 from typing import Any
 
@@ -100,6 +99,7 @@ from elements.contact_history import (
     start_anchors,
 )
 from elements.contact_penalty import PENALTY_SHARE, automatic_penalty, damping_ratio
+from elements.contact_start import check_start_gaps
 from elements.node_rows import add_node_forces, distinct_nodes, row_sums, same_rows, shifted
 from elements.tools import RigidTool
 from femcore.assembly import CellTangent, Scatter
@@ -107,7 +107,7 @@ from femcore.checks import as_number, as_reals
 from femcore.interaction import Body, Interaction, InteractionBlock
 from femcore.state import State
 
-__all__ = ["OVERCLOSURE_SHARE", "PENALTY_SHARE", "Contact", "ContactBlock", "FrictionHistory"]
+__all__ = ["PENALTY_SHARE", "Contact", "ContactBlock", "FrictionHistory"]
 
 # The default release of a frozen node (``Contact(release=..., release_turn=...)``; module
 # docstring, "Active set"): off the tool by more than this many body thicknesses (2 x its
@@ -115,12 +115,6 @@ __all__ = ["OVERCLOSURE_SHARE", "PENALTY_SHARE", "Contact", "ContactBlock", "Fri
 # with, it has left the feature it was frozen on (carried over a die's rim) and leaves the set.
 RELEASE_THICKNESSES = 1.0
 RELEASE_TURN_DEG = 30.0
-
-
-#: An initial overclosure above this share of the contact offset h / 2 is reported
-#: (``check_start``): a blank laid on a die to round-off is not, one started a visible
-#: fraction of its thickness into a tool is.
-OVERCLOSURE_SHARE = 1e-3
 
 
 class Contact(Interaction):
@@ -370,45 +364,10 @@ class ContactBlock(InteractionBlock):
         return self.offset
 
     def check_start(self) -> None:
-        """ValueError when nodes start past the tool's surface (their mid-surface beyond it,
-        a penetration deeper than the contact offset): the penalty would fling them out, or
-        hold them on the wrong side, and the failure would surface far from its cause (a
-        diverged step, a limit point, a run that converges through the tool). A UserWarning
-        when nodes start overlapping it by less (an initial overclosure deeper than
-        OVERCLOSURE_SHARE of the offset): the penalty pushes them out at the first load, a
-        force of the penalty times the depth that the reactions and the tool's force carry
-        (a 2.5 mm overlap of a 15 mm laminate: 19 kN on the tool against a weight of
-        0.14 N). A body laid on the tool, to round-off, starts silently."""
+        """ValueError when nodes start past the tool's surface, a UserWarning when they
+        start overlapping it (elements/contact_start.py)."""
         d, _ = self.tool.distance(self._reference, 0.0)
-        offset = np.broadcast_to(self.offset, d.shape)
-        name = type(self.tool).__name__
-        inside = np.flatnonzero(d < -self.tolerance)
-        if inside.size:
-            nodes = self.connectivity[inside, 0]
-            first = ", ".join(str(int(n)) for n in nodes[:5]) + (", ..." if nodes.size > 5 else "")
-            deepest = inside[np.argmin(d[inside])]
-            raise ValueError(
-                f"the body starts inside the {name}: {nodes.size} of {len(d)} contact nodes "
-                f"(nodes {first}) have their mid-surface up to {float(-d[deepest]):.3g} mm past "
-                f"its surface, a penetration of {float(offset[deepest] - d[deepest]):.3g} mm, "
-                f"deeper than the contact offset h / 2 = {float(offset[deepest]):.3g} mm; "
-                f"{self.tool.side_hint()}"
-            )
-        depth = offset - d
-        over = np.flatnonzero(depth > OVERCLOSURE_SHARE * offset + self.tolerance)
-        if over.size:
-            deepest = over[np.argmax(depth[over])]
-            warnings.warn(
-                f"the body starts overlapping the {name}: {over.size} of {len(d)} contact "
-                f"nodes lie up to {float(depth[deepest]):.3g} mm into it (node "
-                f"{int(self.connectivity[deepest, 0])}; their surface is h / 2 = "
-                f"{float(offset[deepest]):.3g} mm from the mid-surface): the penalty pushes "
-                "them out at the first load, with forces the reactions and the tool's force "
-                f"carry. Move the tool or the blank {float(depth[deepest]):.3g} mm apart to "
-                "start touching",
-                UserWarning,
-                stacklevel=2,
-            )
+        check_start_gaps(self.tool, d, self.offset, self.connectivity[:, 0], self.tolerance)
 
     def held_directions(self) -> tuple[np.ndarray, np.ndarray]:
         """Frictionless: each contact node held along the tool's normal where it starts (a
