@@ -14,7 +14,7 @@ import numpy as np
 
 from femcore.dofs import dof_columns, dof_names
 from femcore.element import ElementBlock, ElementType
-from femcore.entry_error import EntryError
+from femcore.entry_error import EntryError, EntryWarning
 from femcore.interaction import Body, Interaction, InteractionBlock
 from femcore.mesh import Mesh
 
@@ -78,7 +78,11 @@ def bound_interaction(
         except ValueError as error:
             raise EntryError("interaction", index, str(error), f"{where}: ") from None
     for warning in said:  # said again, naming the interaction and its tool
-        warnings.warn(f"{where}: {warning.message}", warning.category, stacklevel=4)
+        if issubclass(warning.category, UserWarning):
+            said_again = EntryWarning("interaction", index, str(warning.message), f"{where}: ")
+            warnings.warn(said_again, stacklevel=4)
+        else:
+            warnings.warn(warning.message, warning.category, stacklevel=4)
     return block
 
 

@@ -6,7 +6,7 @@ case file's table: fibreshell/case_model.py) can name that place."""
 
 from __future__ import annotations
 
-__all__ = ["ENTRY_LISTS", "EntryError"]
+__all__ = ["ENTRY_LISTS", "EntryError", "EntryWarning"]
 
 #: The kinds of entries and the Model attribute that lists them, in the order they are added.
 ENTRY_LISTS = {
@@ -30,6 +30,17 @@ class EntryError(ValueError):
     reason : str
         What is wrong, without the entry's name (the message is ``prefix + reason``).
     """
+
+    def __init__(self, kind: str, index: int, reason: str, prefix: str = "") -> None:
+        super().__init__(f"{prefix}{reason}")
+        self.kind = kind
+        self.index = index
+        self.reason = reason
+
+
+class EntryWarning(UserWarning):
+    """A UserWarning about ``model.<ENTRY_LISTS[kind]>[index]`` (a body that starts
+    overlapping an interaction's tool); ``kind``, ``index`` and ``reason`` as EntryError's."""
 
     def __init__(self, kind: str, index: int, reason: str, prefix: str = "") -> None:
         super().__init__(f"{prefix}{reason}")

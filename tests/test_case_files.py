@@ -457,6 +457,16 @@ friction = 0.2
 """
 
 
+def test_a_body_that_starts_overlapping_a_contact_s_tool_is_warned_at_its_table(tmp_path):
+    """The sphere 0.1 mm higher: the strip's mid-surface on it, its underside h / 2 = 0.1 mm
+    into it at the node above the top (elements/contact_start.py)."""
+    higher = CONTACT.replace("centre = [50.0, 5.0, -30.1]", "centre = [50.0, 5.0, -30.0]")
+    case = load_case(write(tmp_path, CANTILEVER + higher))
+    said = r"case\.toml: \[contact\[0\]\]: the body starts overlapping the RigidSphere: "
+    with pytest.warns(UserWarning, match=said + r"1 of 63 contact nodes lie up to 0\.1 mm"):
+        case.model()
+
+
 @pytest.mark.parametrize(
     "old, new, where",
     [
