@@ -99,6 +99,7 @@ from elements.contact_history import (
     start_anchors,
 )
 from elements.contact_penalty import PENALTY_SHARE, automatic_penalty, damping_ratio
+from elements.contact_start import check_start_gaps
 from elements.node_rows import add_node_forces, distinct_nodes, row_sums, same_rows, shifted
 from elements.tools import RigidTool
 from femcore.assembly import CellTangent, Scatter
@@ -363,23 +364,10 @@ class ContactBlock(InteractionBlock):
         return self.offset
 
     def check_start(self) -> None:
-        """ValueError when nodes start past the tool's surface (their mid-surface beyond it,
-        deeper than the contact offset): the penalty would fling them out, or hold them on
-        the wrong side, and the failure would surface far from its cause (a diverged step, a
-        limit point, a run that converges through the tool)."""
+        """ValueError when nodes start past the tool's surface, a UserWarning when they
+        start overlapping it (elements/contact_start.py)."""
         d, _ = self.tool.distance(self._reference, 0.0)
-        inside = np.flatnonzero(d < -self.tolerance)
-        if inside.size == 0:
-            return
-        nodes = self.connectivity[inside, 0]
-        first = ", ".join(str(int(n)) for n in nodes[:5]) + (", ..." if nodes.size > 5 else "")
-        raise ValueError(
-            f"the body starts inside the {type(self.tool).__name__}: {nodes.size} of "
-            f"{len(d)} contact nodes (nodes {first}) have their mid-surface up to "
-            f"{float(-d[inside].min()):.3g} mm past its surface, a penetration deeper than "
-            f"the contact offset ({float(self.offset[inside].max()):.3g} mm); "
-            f"{self.tool.side_hint()}"
-        )
+        check_start_gaps(self.tool, d, self.offset, self.connectivity[:, 0], self.tolerance)
 
     def held_directions(self) -> tuple[np.ndarray, np.ndarray]:
         """Frictionless: each contact node held along the tool's normal where it starts (a

@@ -129,9 +129,10 @@ def check_positive(value: Any, name: str, unit: str) -> float:
     ValueError
         ``value`` is not a number, not finite, or not > 0.
     """
-    number = as_number(value, name, f"a positive number ({unit})")
+    in_unit = f" ({unit})" if unit else ""  # a ratio or a count has none: no empty brackets
+    number = as_number(value, name, f"a positive number{in_unit}")
     if not np.isfinite(number) or number <= 0.0:
-        raise ValueError(f"{name} must be a positive finite number ({unit}), got {value!r}")
+        raise ValueError(f"{name} must be a positive finite number{in_unit}, got {value!r}")
     return number
 
 

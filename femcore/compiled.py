@@ -15,8 +15,21 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from femcore.compiled_checks import Part, bound_interaction, check_block, median_edge, used_nodes
-from femcore.compiled_loads import evaluate, fixed_mask, load_terms, prescribed_terms
+from femcore.compiled_checks import (
+    Part,
+    bound_block,
+    bound_interaction,
+    check_block,
+    median_edge,
+    used_nodes,
+)
+from femcore.compiled_loads import (
+    evaluate,
+    fixed_mask,
+    load_terms,
+    moment_takers,
+    prescribed_terms,
+)
 from femcore.compiled_tangent import CompiledTangent
 from femcore.diagnostics import interaction_notes, unheld_rigid_motions
 from femcore.dofs import DOF_NAMES, DofManager, dof_columns
@@ -106,7 +119,7 @@ class CompiledModel(CompiledTangent):
             check_triangles(mesh.points, mesh.triangles[ids], names=ids)
 
         fixed = fixed_mask(model.fixes, active)
-        prescribed, self._prescribed_terms = prescribed_terms(model.prescribed, active)
+        prescribed, self._prescribed_terms = prescribed_terms(model.prescribed, active, fixed)
         self.dofs = DofManager(n, active, fixed, prescribed)
 
         self.reference_positions = mesh.points.copy()
@@ -126,8 +139,8 @@ class CompiledModel(CompiledTangent):
 
         self.element_size = median_edge(mesh, cell_entries, self._cells)
         self.blocks: list[ElementBlock] = [
-            entry.element.bind(mesh, entry.cells, self.reference_directors)
-            for entry in model.blocks
+            bound_block(entry.element, mesh, entry.cells, self.reference_directors, index)
+            for index, entry in enumerate(model.blocks)
         ]
         for entry, block in zip(model.blocks, self.blocks):
             check_block(entry.element, block, active)
@@ -193,7 +206,7 @@ class CompiledModel(CompiledTangent):
                     interaction.calibrate(self.mass0, dt)
         self._has_history = any(h is not None for h in state0.history)
         self._no_history = (None,) * len(self.parts)
-        self._load_terms = load_terms(model.loads, active)
+        self._load_terms = load_terms(model.loads, active, moment_takers(model.blocks, mesh))
         self._gravity_terms = [(g.amplitude, g.vector) for g in model.gravities]
         # Each gravity's nodal weights m g (n, 3), and the nodes no element carries: made
         # once, not at every step's load.

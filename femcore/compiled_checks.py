@@ -7,17 +7,20 @@ scale of the residual checks.
 from __future__ import annotations
 
 import inspect
+import warnings
 from collections.abc import Callable
 
 import numpy as np
 
 from femcore.dofs import dof_columns, dof_names
 from femcore.element import ElementBlock, ElementType
+from femcore.entry_error import EntryError, EntryWarning
 from femcore.interaction import Body, Interaction, InteractionBlock
 from femcore.mesh import Mesh
 
 __all__ = [
     "Part",
+    "bound_block",
     "bound_interaction",
     "check_block",
     "check_bound",
@@ -29,19 +32,34 @@ __all__ = [
 Part = ElementBlock | InteractionBlock
 
 
+def bound_block(
+    element: ElementType, mesh: Mesh, cells: np.ndarray, directors: np.ndarray, index: int
+) -> ElementBlock:
+    """``element.bind(mesh, cells, directors)``; its ValueErrors (an unknown node set among
+    its options, ...) name the block (``model.blocks[index]``)."""
+    try:
+        return element.bind(mesh, cells, directors)
+    except EntryError:
+        raise
+    except ValueError as error:
+        where = f"block {index} ({type(element).__name__}): "
+        raise EntryError("block", index, str(error), where) from None
+
+
 def bound_interaction(
     interaction: Interaction, body: Body, index: int, tool: int
 ) -> InteractionBlock:
     """``interaction.bind(body)``, checked as ``check_block`` checks an element block, and
     its ``check_start``; their ValueErrors (a body that starts inside a tool) name the
     interaction (``model.interactions[index]``) and the tool number ``tool`` it has (the
-    ``tool1`` ... of the histories) when it acts against a tool."""
+    ``tool1`` ... of the histories) when it acts against a tool; so do the warnings of its
+    ``check_start`` (a body that starts overlapping its tool)."""
     against = f", tool {tool}" if getattr(interaction, "tool", None) is not None else ""
     where = f"interaction {index} ({type(interaction).__name__}{against})"
     try:
         block = interaction.bind(body)
     except ValueError as error:
-        raise ValueError(f"{where}: {error}") from None
+        raise EntryError("interaction", index, str(error), f"{where}: ") from None
     check_bound(
         type(interaction).__name__,
         block,
@@ -53,10 +71,18 @@ def bound_interaction(
     n_tools = getattr(block, "n_tools", None)
     if isinstance(n_tools, bool) or not isinstance(n_tools, (int, np.integer)) or n_tools < 0:
         raise ValueError(f"{type(block).__name__}.n_tools is {n_tools!r}: expected an int >= 0")
-    try:
-        block.check_start()
-    except ValueError as error:
-        raise ValueError(f"{where}: {error}") from None
+    with warnings.catch_warnings(record=True) as said:
+        warnings.simplefilter("always")
+        try:
+            block.check_start()
+        except ValueError as error:
+            raise EntryError("interaction", index, str(error), f"{where}: ") from None
+    for warning in said:  # said again, naming the interaction and its tool
+        if issubclass(warning.category, UserWarning):
+            said_again = EntryWarning("interaction", index, str(warning.message), f"{where}: ")
+            warnings.warn(said_again, stacklevel=4)
+        else:
+            warnings.warn(warning.message, warning.category, stacklevel=4)
     return block
 
 

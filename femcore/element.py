@@ -54,11 +54,17 @@ class ElementType(ABC):
     defines_directors : bool
         True for shells: the area-weighted normals of the element's triangles define the
         reference directors of their nodes (the rotational DOFs turn them).
+    takes_moments : bool
+        For an element with rotational DOFs: True when a nodal moment on them bends it (a
+        Mindlin shell's rotations are its sections'); False when they are something else (the
+        fibrous shell's directors are material normals, its bending rotation-free): a moment
+        on nodes only such elements use is refused when the model is compiled.
     """
 
     dofs: ClassVar[tuple[str, ...]] = ()
     cell_type: ClassVar[str]
     defines_directors: ClassVar[bool] = False
+    takes_moments: ClassVar[bool] = True
 
     @property
     def half_thickness(self) -> float:

@@ -280,7 +280,8 @@ def _merge_set(store: dict[str, np.ndarray], name: str, ids: np.ndarray) -> None
 
 
 def _clean_cell_sets(raw: meshio.Mesh, source: str) -> dict[str, list[np.ndarray]]:
-    """meshio's cell sets as one int64 array of local cell ids per block (None: empty), the
+    """meshio's cell sets as one int64 array of local cell ids per block (None: empty; an
+    Abaqus *ELSET with no element, which meshio reads as no block at all: empty in each), the
     gmsh bookkeeping ("gmsh:bounding_entities") left out; ValueError for a set whose shape
     does not follow the blocks (meshio 5.3 builds such a set from an Abaqus *ELSET made of
     other sets, which read_mesh rebuilds unless the deck has *INCLUDE files)."""
@@ -288,6 +289,9 @@ def _clean_cell_sets(raw: meshio.Mesh, source: str) -> dict[str, list[np.ndarray
     out = {}
     for name, per_block in raw.cell_sets.items():
         if name.startswith("gmsh:"):
+            continue
+        if len(per_block) == 0:  # meshio's empty *ELSET: a set of no cell, in every block
+            out[name] = [empty] * len(raw.cells)
             continue
         try:
             ids = [empty if b is None else np.asarray(b, dtype=np.int64) for b in per_block]
@@ -411,9 +415,12 @@ def _mesh_from_meshio(raw: meshio.Mesh, source: str) -> Mesh:
     for name, per_block in raw.cell_sets.items():
         if name in groups:  # gmsh 4.1 physical groups, read below with their dimension
             continue
-        for kind in CELL_KINDS:
-            ids = blocks.ids(per_block, kind)
-            if ids.size:  # a set of another cell kind has no members here
+        found = {kind: blocks.ids(per_block, kind) for kind in CELL_KINDS}
+        for kind, ids in found.items():
+            # a set of another cell kind has no members here; a set of no cell at all (an
+            # empty *ELSET) is kept, empty, for each kind the file has: named by a part, it
+            # is refused as empty, not as unknown
+            if ids.size or (not any(i.size for i in found.values()) and kind in kinds):
                 _merge_set(sets[kind], name, ids)
     for name, data in raw.point_data.items():
         if name.startswith(_NODE_MASK):

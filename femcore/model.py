@@ -127,8 +127,9 @@ class Model:
         else:
             ids = self._ids(cells, n_cells, f"{cell_type} cell")
         if ids.size == 0:
+            named = f" (its {cell_type} set {cells!r} is empty)" if isinstance(cells, str) else ""
             raise ValueError(
-                f"{type(element).__name__} block covers no cell: the mesh has "
+                f"{type(element).__name__} block covers no cell{named}: the mesh has "
                 f"{n_cells} {cell_type} cells"
             )
         # Two blocks on one cell would add its mass and stiffness twice, silently.

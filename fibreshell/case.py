@@ -100,6 +100,7 @@ from elements import (
 from femcore import Mesh, Model
 from fibreshell import registry
 from fibreshell.case_materials import _material, _user_element
+from fibreshell.case_model import LocatedModel
 from fibreshell.case_reading import CaseError, _keywords, _number, _table, _vector, _Where
 from fibreshell.case_sets import BOUND_KEYS, BoundsError, order_path, select_by_bounds
 from fibreshell.outputs import DEFAULT_CHECKPOINT, checkpoint_collision
@@ -180,35 +181,44 @@ class Case:
 
     # ------------------------------------------------------------------ building
     def model(self, kinematics: str | None = None, calibration=None) -> Model:
-        """The model of the case. ``kinematics="mindlin"`` replaces every fibrous part by the
-        Mindlin shell of ``calibration`` (a ``fibreshell.calibration.Calibration`` or its name;
-        None: "laws", the fabric's own laws) on the same cells; None or "fibrous" builds the
-        case as written."""
+        """The model of the case, compiled. ``kinematics="mindlin"`` replaces every fibrous part
+        by the Mindlin shell of ``calibration`` (a ``fibreshell.calibration.Calibration`` or its
+        name; None: "laws", the fabric's own laws) on the same cells; None or "fibrous" builds
+        the case as written. Raises CaseError (a ValueError) naming the file, the table and
+        the key of an entry that cannot be built or compiled (an unknown cell set, a part on
+        cells another part covers, a moment on nodes only fibrous cells use, ...)."""
         from fibreshell.calibration import Calibration
 
         if kinematics not in (None, "fibrous", "mindlin"):
             raise ValueError(f"kinematics must be 'fibrous' or 'mindlin', got {kinematics!r}")
         rule = Calibration.from_options(calibration)
-        model = Model(self.mesh)
-        for part in self.parts:
+        located = LocatedModel(Model(self.mesh))
+        top = _Where(self.path, "")
+        for i, part in enumerate(self.parts):
             element = part["element"]
             if kinematics == "mindlin" and isinstance(element, FibrousShell):
                 element = rule.mindlin(element)
-            model.add(element, part["cells"])
-        for fix in self.fixes:
-            model.fix(fix["nodes"], fix["dofs"])
-        for item in self.displacements:
-            model.displace(item["nodes"], **item["components"], amplitude=item["amplitude"])
-        for item in self.forces:
-            model.force(item["nodes"], item["vector"], amplitude=item["amplitude"])
-        for item in self.moments:
-            model.moment(item["nodes"], item["vector"], amplitude=item["amplitude"])
+            with located.at(top.child(f"part[{i}]"), "cells" if part["cells"] else None) as m:
+                m.add(element, part["cells"])
+        for i, fix in enumerate(self.fixes):
+            with located.at(top.child(f"fix[{i}]")) as m:
+                m.fix(fix["nodes"], fix["dofs"])
+        for i, item in enumerate(self.displacements):
+            with located.at(top.child(f"displace[{i}]")) as m:
+                m.displace(item["nodes"], **item["components"], amplitude=item["amplitude"])
+        for kind, items in (("force", self.forces), ("moment", self.moments)):
+            for i, item in enumerate(items):
+                with located.at(top.child(f"{kind}[{i}]")) as m:
+                    getattr(m, kind)(item["nodes"], item["vector"], amplitude=item["amplitude"])
         if self.gravity is not None:
-            model.gravity(self.gravity["acceleration"], amplitude=self.gravity["amplitude"])
-        for contact in self.contacts:
-            model.contact(**contact)
-        for grip in self.grips:
-            model.interact(Grip(grip["nodes"], grip["stiffness"]))
+            with located.at(top.child("gravity")) as m:
+                m.gravity(self.gravity["acceleration"], amplitude=self.gravity["amplitude"])
+        for i, contact in enumerate(self.contacts):
+            with located.at(top.child(f"contact[{i}]")) as m:
+                m.contact(**contact)
+        for i, grip in enumerate(self.grips):
+            with located.at(top.child(f"grip[{i}]")) as m:
+                m.interact(Grip(grip["nodes"], grip["stiffness"]))
         if self.fibre_bending is not None:
             if kinematics == "mindlin":
                 # The Mindlin shell has no fibres to bend: say so, so that a comparison of the
@@ -220,7 +230,11 @@ class Case:
                     stacklevel=2,
                 )
             else:
-                model.interact(FibreBending(**self.fibre_bending))
+                with located.at(top.child("fibre_bending")) as m:
+                    m.interact(FibreBending(**self.fibre_bending))
+        # Compiled here, where each entry's table is known (the solver reuses it): an error
+        # of binding or applying one names the file, the table and the key.
+        model = located.compile()
         return model
 
     def make_solver(self, **outputs):
@@ -287,7 +301,10 @@ def case_from_data(data: dict, path: str | Path) -> Case:
     ).items():
         ids = _select(top.child("sets"), mesh, bounds, name, named_only=False)
         case.node_sets[name] = ids
-        mesh.add_node_set(name, ids)
+        try:
+            mesh.add_node_set(name, ids)
+        except ValueError as error:  # a name the mesh already has ("left", ...)
+            raise top.child("sets").error(name, f"{error}: give this set another name") from None
     case.parts = [_part(top.child(f"part[{i}]"), p) for i, p in enumerate(_list(top, data, "part"))]
     case.fixes = [
         _fix(top.child(f"fix[{i}]"), mesh, f) for i, f in enumerate(_list(top, data, "fix"))
@@ -398,12 +415,11 @@ def _mesh(top: _Where, value: Any, folder: Path) -> Mesh:
     for key in ("nx", "ny"):
         if isinstance(rect[key], bool) or not isinstance(rect[key], int) or rect[key] < 1:
             raise inner.error(key, f"expected a whole number of cells >= 1, got {rect[key]!r}")
+    # read before the try: their own CaseErrors name their keys once
+    lx, ly = _number(inner, rect["lx"], "lx"), _number(inner, rect["ly"], "ly")
+    origin = _vector(inner, rect.get("origin", [0.0, 0.0, 0.0]), "origin")
     try:
-        return Mesh.rectangle(
-            _number(inner, rect["lx"], "lx"), _number(inner, rect["ly"], "ly"),
-            nx=rect["nx"], ny=rect["ny"],
-            origin=_vector(inner, rect.get("origin", [0.0, 0.0, 0.0]), "origin"),
-        )  # fmt: skip
+        return Mesh.rectangle(lx, ly, nx=rect["nx"], ny=rect["ny"], origin=origin)
     except ValueError as error:
         raise inner.error(None, str(error)) from None
 

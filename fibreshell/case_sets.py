@@ -87,13 +87,22 @@ def select_by_bounds(points: np.ndarray, bounds: Mapping[str, Any]) -> np.ndarra
     ------
     BoundsError (a ValueError)
         An unknown key, a bound that is neither a number nor a share from 0% to 100%, a
-        negative tolerance (``key`` names the bound); bounds that select no node (``key``
+        negative tolerance (``key`` names the bound); no bound at all (an empty table or a
+        tolerance alone: it would select every node) or bounds that select no node (``key``
         None: the message names each bound, its coordinate and the mesh's extent).
     """
     unknown = [key for key in bounds if key not in BOUND_KEYS]
     if unknown:
         raise BoundsError(
             f"unknown key {unknown[0]!r}; expected one of {', '.join(BOUND_KEYS)}", unknown[0]
+        )
+    if not any(key in bounds for key in BOUND_KEYS if key != "tolerance"):
+        # No bound would hold every node: a table left empty (``nodes = {}``) must not fix,
+        # load or watch the whole mesh.
+        raise BoundsError(
+            f"no bound given, got {dict(bounds)!r}: give at least one of "
+            f"{', '.join(BOUND_KEYS[:-1])} (a node-set name selects a named set)",
+            None,
         )
     low, high = points.min(axis=0), points.max(axis=0)
     size = float((high - low).max()) or 1.0

@@ -17,9 +17,11 @@ import numpy as np
 
 from femcore.results import Frame, Result
 from femcore.writable import FIRST_FRAMES, OutputError, check_folder, frame_bytes, series_frames
-from fibreshell.case import Case
+from fibreshell.case import DEFAULT_CHECKPOINT, Case
+from fibreshell.case_reading import _Where
 from fibreshell.outputs import checkpoint_collision, clean_run
 from solvers import Interrupted, SolverError
+from solvers.common import SettingError
 from solvers.output import ENERGY_KEYS
 
 __all__ = [
@@ -104,7 +106,9 @@ def run_case(
     ------
     ValueError
         ``out`` is a file or under one; ``resume`` without a checkpoint to resume from; a
-        checkpoint path that lands on a file the run writes in ``out``.
+        checkpoint path that lands on a file the run writes in ``out``; a CaseError (naming
+        the file, the table and the key) for a model that cannot be built or a solver setting
+        it cannot be run with (``max_steps``, mass scaling).
     femcore.writable.OutputError
         ``out`` cannot be written or is too full for the first frames, or a write failed
         during the run (the message names the file and what was kept).
@@ -157,7 +161,11 @@ def run_case(
     if checkpoint is not None:
         options["checkpoint"] = checkpoint
     solver = case.make_solver(**outputs)
-    result, failure, wall = _solve(solver, model, **options)
+    try:
+        result, failure, wall = _solve(solver, model, **options)
+    except SettingError as setting:  # found as the solve starts: at its [solver] key
+        key = setting.option if setting.option in case.solver["options"] else None
+        raise _Where(case.path, "solver").error(key, str(setting)) from None
     error = "" if failure is None else str(failure)
     status = "interrupted" if isinstance(failure, Interrupted) else "stopped" if error else "done"
     label = kinematics or ("fibrous" if case.has_fibrous else case.parts[0]["kind"])

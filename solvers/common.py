@@ -52,6 +52,16 @@ class SolverError(RuntimeError):
         self.result = result
 
 
+class SettingError(ValueError):
+    """A solver setting this model cannot be run with, found as the solve starts (more steps
+    than ``max_steps``, more mass scaling than ``max_added_mass``): ``option`` names the
+    setting at fault, so that a case file's error can point at its key."""
+
+    def __init__(self, option: str, message: str) -> None:
+        super().__init__(message)
+        self.option = option
+
+
 class DivergenceError(SolverError):
     """Non-finite values or an energy blow-up: the time step is too large for the model, a
     material law left its range, or a load drives the structure unstable."""

@@ -32,6 +32,7 @@ from solvers.blas_threads import one_blas_thread
 from solvers.common import (
     DivergenceError,
     ProgressLine,
+    SettingError,
     check_fraction,
     check_integer,
     check_non_negative,
@@ -172,16 +173,16 @@ class CentralDifference(StableStepRule):
         kinetic_bound: float | str | None = "auto",
         process_duration: float | None = None,
     ):
-        checked = check_positive_or_none(duration, "duration")
+        checked = check_positive_or_none(duration, "duration", "s")
         if checked is None:
             raise ValueError("duration must be a positive number of seconds")
         self.duration: float = checked
-        self.dt = check_positive_or_none(dt, "dt")
+        self.dt = check_positive_or_none(dt, "dt", "s")
         self.safety = check_fraction(safety, "safety")
         self.damping = check_non_negative(damping, "damping", "1/s, of C = c M")
-        self.mass_scaling_dt = check_positive_or_none(mass_scaling_dt, "mass_scaling_dt")
+        self.mass_scaling_dt = check_positive_or_none(mass_scaling_dt, "mass_scaling_dt", "s")
         self.max_added_mass = check_non_negative(max_added_mass, "max_added_mass", "a ratio")
-        self.output_interval = check_positive_or_none(output_interval, "output_interval")
+        self.output_interval = check_positive_or_none(output_interval, "output_interval", "s")
         self.progress = check_progress(progress)
         self.max_steps = check_integer(max_steps, "max_steps")
         self.output = None if output is None else output_path(output, ".pvd", "output")
@@ -523,20 +524,22 @@ class CentralDifference(StableStepRule):
             )
         total = compiled.element_mass
         if total > 0.0 and added_mass > self.max_added_mass * total:
-            raise ValueError(
+            raise SettingError(
+                "mass_scaling_dt",
                 f"mass_scaling_dt = {self.mass_scaling_dt:g} s would add {added_mass / total:.3g} "
                 f"times the elements' mass ({added_mass:.3g} on {total:.3g} t, the tools' "
                 "masses aside), more than "
                 f"max_added_mass = {self.max_added_mass:g}: the run would describe a much "
                 "heavier body. Choose a target step nearer the stable step, or raise "
-                "max_added_mass"
+                "max_added_mass",
             )
         steps = self.duration / dt
         if steps > self.max_steps:
-            raise ValueError(
+            raise SettingError(
+                "max_steps",
                 f"duration / dt = {self.duration:g} s / {dt:.3g} s = {steps:.4g} steps, more "
                 f"than max_steps = {self.max_steps}: raise dt (or mass_scaling_dt), shorten "
-                "the duration, or raise max_steps"
+                "the duration, or raise max_steps",
             )
 
     def _outputs(self, compiled: CompiledModel, run: _Run):

@@ -36,7 +36,11 @@ class Interrupted(SolverError):
     frame up to there (``result.converged`` is False); ``signal`` names the signal
     ("SIGINT", "SIGTERM"); ``checkpoint`` is the file the run was saved to (None when the
     solver has none or none was asked for): the same solve with that checkpoint continues the
-    run to the same bits as a run never interrupted."""
+    run to the same bits as a run never interrupted. ``steps``: the steps or iterations the
+    solver took in the stretch it did not finish (a relaxation's increment), counted in
+    ``result.steps``."""
+
+    steps: int = 0
 
     def __init__(
         self,

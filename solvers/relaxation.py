@@ -316,6 +316,10 @@ class DynamicRelaxation:
                 error.result = self._result(
                     compiled, frames, iterations, residuals, masses, started, False
                 )
+                if isinstance(error, Interrupted):
+                    # the unfinished increment's iterations count too: a stop at iteration
+                    # 3910 of the first increment read "after 0 steps"
+                    error.result.steps += error.steps
                 raise
             iterations.append(count)
             residuals.append(ratio)
@@ -411,7 +415,9 @@ class DynamicRelaxation:
 
         for iteration in range(1, self.max_iterations + 1):
             if STOP.signal is not None:  # SIGINT or SIGTERM inside interruptible()
-                raise Interrupted(f"iteration {iteration}", None, STOP.signal)
+                stop = Interrupted(f"iteration {iteration}", None, STOP.signal)
+                stop.steps = iteration - 1  # this increment's iterations, taken before the stop
+                raise stop
             f_int, m_int = model.internal_force(state)
             residual = np.where(free, f_ext - f_int, 0.0)
             # (zero and unused without rotational DOFs)

@@ -4,6 +4,7 @@ frictionless contact, relaxations that stall. Each is a ValueError (or a Converg
 a run that cannot progress) that names what was wrong, never a raw traceback, a hang or a
 silent wrong answer."""
 
+import warnings
 from pathlib import Path
 
 import numpy as np
@@ -86,6 +87,8 @@ def test_a_word_for_a_damping_is_a_value_error_naming_the_option():
         ("relaxation", 'damping = "high"', "damping", "unknown damping"),
         ("explicit", "max_steps = 2.5", "max_steps", "integer >= 1, got 2.5"),
         ("static", "max_cuts = true", "max_cuts", "integer >= 0, got True"),
+        # the unit in its brackets, never "()"
+        ("explicit", "dt = -0.001", "dt", r"positive finite number \(s\), got -0\.001"),
     ],
 )
 def test_a_bad_solver_option_in_a_case_file_names_the_file_table_and_key(
@@ -174,11 +177,37 @@ def test_a_body_that_starts_inside_a_tool_is_refused_naming_the_tool_and_nodes(t
         model.compile()
 
 
-def test_a_body_laid_on_a_tool_starts_fine():
-    """Mid-surface half the thickness above the plane: touching, not inside."""
-    model = strip(RigidPlane((0.0, 0.0, 0.0), (0.0, 0.0, 1.0)), lift=3.0)
+def test_the_refusal_states_the_penetration_it_compares_with_the_offset():
+    """Mid-surface 3 mm past a plane whose normal points away: a penetration of 3 + h / 2 =
+    6 mm, deeper than h / 2 = 3 mm (it read "up to 3 mm past ... deeper than 3 mm")."""
+    model = strip(RigidPlane((0.0, 0.0, 0.0), (0.0, 0.0, -1.0)), lift=3.0)
     model.fix("left")
-    model.compile()
+    with pytest.raises(ValueError, match=r"3 mm past its surface, a penetration of 6 mm, deeper "
+                       r"than the contact offset h / 2 = 3 mm"):  # fmt: skip
+        model.compile()
+
+
+@pytest.mark.parametrize("lift", [3.0, 3.0 - 1e-6, 3.0 + 1e-6], ids=["on", "round-off", "above"])
+def test_a_body_laid_on_a_tool_starts_fine_and_silently(lift):
+    """Mid-surface half the thickness above the plane: touching, not inside, and a
+    millionth of a millimetre either way is no overlap to report."""
+    model = strip(RigidPlane((0.0, 0.0, 0.0), (0.0, 0.0, 1.0)), lift=lift)
+    model.fix("left")
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        model.compile()
+
+
+def test_a_body_that_starts_overlapping_a_tool_is_warned_naming_the_tool_depth_and_remedy():
+    """The 6 mm stack 2 mm into the plane (less than h / 2, so not refused): the penalty
+    would push it out at the first load with forces far above its weight, silently (a 15 mm
+    laminate 2.5 mm into a plane: 19 kN on the tool against a weight of 0.14 N)."""
+    model = strip(RigidPlane((0.0, 0.0, 0.0), (0.0, 0.0, 1.0)), lift=1.0)
+    model.fix("left")
+    with pytest.warns(UserWarning, match=r"tool 1\): the body starts overlapping the RigidPlane: "
+                      r"10 of 10 contact nodes lie up to 2 mm into it .* Move the tool or the "
+                      r"blank 2 mm apart"):  # fmt: skip
+        model.compile()
 
 
 # ------------------------------------------------------------------ held by contact only

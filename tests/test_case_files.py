@@ -202,6 +202,64 @@ def test_a_mistake_in_a_case_file_names_the_file_the_table_and_the_key(tmp_path,
     assert isinstance(error.value, ValueError)
 
 
+MINDLIN_PART = (
+    '[[part]]\nelement = "mindlin"\n'
+    "material = { E = 1e3, nu = 0.3, thickness = 0.2, density = 1e-9 }"
+)
+
+
+@pytest.mark.parametrize(
+    "old, new, where",
+    [
+        ('clamped = "left"', 'clamped = "lefft"', r"\[part\[0\]\]: unknown node set 'lefft'"),
+        ("tip = {", 'left = { x_min = 50.0 }\ntip = {', r"\[sets.left\]: node set 'left' already"),
+        ('clamped = "left" }', 'clamped = "left" }\ncells = "blank"',
+         r"\[part\[0\].cells\]: no triangle set named 'blank'"),
+        ("", "[[grip]]\nnodes = { x_min = 100.0, y_min = 10.0 }\nstiffness = 1.0",
+         r"\[grip\[0\]\]: Grip needs two or more distinct nodes"),
+        ("", MINDLIN_PART, r"\[part\[1\]\]: MindlinShell on triangle cells .* already covers"),
+        ("", MINDLIN_PART.replace('"mindlin"', '"cable"').replace(
+            "E = 1e3, nu = 0.3, thickness = 0.2, density = 1e-9",
+            "axial_stiffness = 1e3, mass_per_length = 1e-9"),
+         r"\[part\[1\]\]: Cable block covers no cell"),
+        ("", '[[displace]]\nnodes = "left"\nuz = 1.0',
+         r"\[displace\[0\]\]: DOF uz of node \d+ is both fixed and prescribed"),
+        ("", '[[moment]]\nnodes = "tip"\nvector = [0.0, 1.0, 0.0]',
+         r"\[moment\[0\]\]: a moment on 3 node\(s\) .* FibrousShell cells use.* force couple"),
+        ("nx = 20, ny = 2", "nx = 20, ny = 2, origin = [0.0, 0.0]",
+         r"\[mesh.rectangle.origin\]: expected a list of 3 numbers"),
+    ],
+)  # fmt: skip
+def test_a_mistake_found_as_the_model_is_built_names_the_file_the_table_and_the_key(
+    tmp_path, old, new, where
+):
+    """What the model finds when it is built and compiled (a node set an element option
+    names, a part on cells another covers, a fixed DOF displaced, a moment on the fibrous
+    shell...) is named as a mistake in reading the file is: file, table, key, once."""
+    assert old in CANTILEVER
+    text = CANTILEVER.replace(old, new, 1) if old else f"{CANTILEVER}\n{new}\n"
+    path = write(tmp_path, text)
+    with pytest.raises(CaseError, match=where) as error:
+        load_case(path).model()
+    assert str(error.value).count(str(path)) == 1
+
+
+@pytest.mark.parametrize(
+    "option, where",
+    [
+        ("max_steps = 10", r"\[solver.max_steps\]: duration / dt = .* more than max_steps = 10"),
+        ("mass_scaling_dt = 1.0", r"\[solver.mass_scaling_dt\]: mass_scaling_dt = 1 s would add"),
+    ],
+)
+def test_a_solver_setting_the_model_cannot_run_with_names_its_key(tmp_path, option, where):
+    text = CANTILEVER.replace(
+        'kind = "static"\nincrements = 1', f'kind = "explicit"\nduration = 0.01\n{option}'
+    )
+    path = write(tmp_path, text)
+    with pytest.raises(CaseError, match=where):
+        run_case(load_case(path), tmp_path / "out", progress=False)
+
+
 def test_unreadable_case_files_are_refused_clearly(tmp_path):
     with pytest.raises(CaseError, match="no such case file"):
         load_case(tmp_path / "missing.toml")
@@ -392,13 +450,24 @@ def test_the_shipped_strip_over_a_cylinder_drapes_as_the_heavy_elastica(tmp_path
     assert float(rows[-1]["tool1_force_z"]) == pytest.approx(on_tool, rel=1e-12)
 
 
+# a sphere whose top touches the strip's underside (h / 2 = 0.1 mm below its mid-surface)
 CONTACT = """
 [[contact]]
 tool = "sphere"
-centre = [50.0, 5.0, -30.0]
+centre = [50.0, 5.0, -30.1]
 radius = 30.0
 friction = 0.2
 """
+
+
+def test_a_body_that_starts_overlapping_a_contact_s_tool_is_warned_at_its_table(tmp_path):
+    """The sphere 0.1 mm higher: the strip's mid-surface on it, its underside h / 2 = 0.1 mm
+    into it at the node above the top (elements/contact_start.py)."""
+    higher = CONTACT.replace("centre = [50.0, 5.0, -30.1]", "centre = [50.0, 5.0, -30.0]")
+    case = load_case(write(tmp_path, CANTILEVER + higher))
+    said = r"case\.toml: \[contact\[0\]\]: the body starts overlapping the RigidSphere: "
+    with pytest.warns(UserWarning, match=said + r"1 of 63 contact nodes lie up to 0\.1 mm"):
+        case.model()
 
 
 @pytest.mark.parametrize(
@@ -409,7 +478,7 @@ friction = 0.2
         ("radius = 30.0", "radius = 30.0\nnormal = [0.0, 0.0, 1.0]", r"unknown key 'normal'"),
         ("friction = 0.2", "friction = -0.2", r"\[contact\[0\].friction\]"),
         ("friction = 0.2", 'friction = 0.2\nnodes = "nowhere"', r"\[contact\[0\].nodes\]"),
-        ("centre = [50.0, 5.0, -30.0]", "centre = [50.0, 5.0]", r"\[contact\[0\].centre\]"),
+        ("centre = [50.0, 5.0, -30.1]", "centre = [50.0, 5.0]", r"\[contact\[0\].centre\]"),
         ("friction = 0.2", "friction = 0.2\nstick_stiffness = 0.0", r"\[contact\[0\].stick_"),
         ("friction = 0.2", "friction = 0.2\nstick_stiffness = 2.0", r"in \(0, 1\], got 2.0"),
         ("friction = 0.2", "friction = 0.2\ndamping = 1.5", r"\[contact\[0\].damping\]"),
@@ -433,7 +502,7 @@ def test_a_contact_table_builds_the_tool_of_its_python_twin(tmp_path):
     (contact,) = case.contacts
     assert contact["friction"] == 0.2 and contact["nodes"] is None
     tool = contact["tool"]
-    assert tool.radius == 30.0 and np.allclose(tool.centre, [50.0, 5.0, -30.0])
+    assert tool.radius == 30.0 and np.allclose(tool.centre, [50.0, 5.0, -30.1])
     model = case.model()
     assert model.interactions[-1].friction == 0.2
 

@@ -106,6 +106,23 @@ def test_an_interrupted_relaxation_keeps_its_converged_increments_and_resumes_to
     assert resumed.info["iterations_per_increment"] == reference.info["iterations_per_increment"]
 
 
+def test_a_relaxation_interrupted_inside_its_first_increment_counts_the_iterations_taken(
+    monkeypatch,
+):
+    # the signal at the 40th force evaluation: the iterations before the stop are the run's
+    # steps, not 0 (no increment converged)
+    import femcore.compiled
+
+    with monkeypatch.context() as patch:
+        signal_on_call(patch, femcore.compiled.CompiledModel, "internal_force", 40)
+        with interruptible(), pytest.raises(Interrupted) as stopped:
+            DynamicRelaxation(increments=3, progress=False).solve(hanging_cable())
+    error = stopped.value
+    assert "increment 1/3" in str(error) and len(error.result.frames) == 1
+    taken = int(str(error).split("(iteration ")[1].split(")")[0]) - 1
+    assert 30 <= taken <= 40 and error.result.steps == taken
+
+
 def test_a_second_signal_during_the_wind_down_raises_keyboard_interrupt():
     with interruptible() as stop:
         os.kill(os.getpid(), signal.SIGTERM)

@@ -68,6 +68,30 @@ def _gmsh_strip(path, surfaces, version, **options):
         gmsh.finalize()
 
 
+def test_an_empty_abaqus_elset_reads_and_is_refused_only_where_a_part_uses_it(tmp_path):
+    """meshio reads "*ELSET, ELSET=EMPTY" with no line after it as a set of no block; the
+    deck read as without it, the set empty, and a part on it refused as empty."""
+    quads = np.concatenate([LEFT_QUADS, RIGHT_QUADS])
+    deck = (
+        f"*NODE\n{_nodes_text(STRIP_POINTS)}\n"
+        f"*ELEMENT, TYPE=S4R, ELSET=BLANK\n{_elements_text(quads, 1)}\n"
+        "*NSET, NSET=CLAMP\n1, 6\n"
+    )
+    (tmp_path / "plain.inp").write_text(deck)
+    (tmp_path / "strip.inp").write_text(deck + "*ELSET, ELSET=EMPTY\n")
+    plain, mesh = Mesh.read(tmp_path / "plain.inp"), Mesh.read(tmp_path / "strip.inp")
+    np.testing.assert_array_equal(mesh.triangles, plain.triangles)
+    np.testing.assert_array_equal(mesh.element_sets["BLANK"], plain.element_sets["BLANK"])
+    assert mesh.element_sets["EMPTY"].size == 0
+    (tmp_path / "case.toml").write_text(
+        '[mesh]\nfile = "strip.inp"\n[[part]]\nelement = "mindlin"\ncells = "EMPTY"\n'
+        "material = { E = 1e3, nu = 0.3, thickness = 0.1, density = 1e-9 }\n"
+        '[[fix]]\nnodes = "CLAMP"\n[solver]\nkind = "static"\n'
+    )
+    with pytest.raises(ValueError, match=r"\[part\[0\].cells\]: .* set 'EMPTY' is empty"):
+        load_case(tmp_path / "case.toml").model()
+
+
 @pytest.mark.parametrize("version", [2.2, 4.1])
 @pytest.mark.parametrize("surfaces", [2, 3])
 def test_a_gmsh_file_of_several_surfaces_gives_meshios_triangles_and_its_groups(

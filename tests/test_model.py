@@ -124,6 +124,47 @@ def test_a_force_on_a_node_no_element_uses_is_refused_in_plain_words():
     assert "no any" not in str(refused.value)
 
 
+def strip_of(left: str, right: str) -> tuple[Model, np.ndarray]:
+    """A 100 x 20 mm strip, 4 x 1 cells, its left half of ``left`` cells and its right half of
+    ``right`` ("fibrous" or "mindlin"), clamped at x = 0; and the ids of its tip nodes."""
+    from elements import FibrousShell, MindlinShell
+    from materials import presets
+
+    mesh = Mesh.rectangle(100.0, 20.0, nx=4, ny=1)
+    fabric = presets.g1151_laminate()
+    make = {"fibrous": lambda: FibrousShell(fabric), "mindlin": lambda: MindlinShell(fabric)}
+    centres = mesh.points[mesh.triangles].mean(axis=1)[:, 0]
+    model = Model(mesh)
+    model.add(make[left](), np.flatnonzero(centres < 50.0))
+    model.add(make[right](), np.flatnonzero(centres >= 50.0))
+    model.fix("left")
+    return model, mesh.nodes("right")
+
+
+def test_a_moment_on_nodes_only_fibrous_cells_use_is_refused_naming_them_and_the_way_out():
+    """The fibrous shell's rotational DOFs turn its directors (material normals), its bending
+    is rotation-free (docs/theory.md §4.5): a tip moment moved the strip 4.7e-5 mm where the
+    bending closed form wants 0.45 mm, silently."""
+    model, tip = strip_of("fibrous", "fibrous")
+    model.moment(tip, (0.0, -0.05, 0.0))
+    with pytest.raises(
+        ValueError, match=r"moment on 2 node\(s\) \(4, 9\) that only FibrousShell"
+    ) as e:
+        model.compile()
+    assert "force couple" in str(e.value) and "Mindlin part" in str(e.value)
+
+
+def test_a_moment_on_nodes_a_mindlin_block_uses_is_kept_even_where_fibrous_cells_meet_them():
+    model, tip = strip_of("fibrous", "mindlin")
+    middle = model.mesh.nodes(lambda x, y, z: np.isclose(x, 50.0))  # both blocks use them
+    model.moment(tip, (0.0, -0.05, 0.0))
+    model.moment(middle, (0.0, -0.05, 0.0))
+    model.compile()
+    model, _ = strip_of("mindlin", "fibrous")
+    model.moment(middle, (0.0, -0.05, 0.0))
+    model.compile()
+
+
 @pytest.mark.parametrize("solver", [DynamicRelaxation(), CentralDifference(duration=1.0)])
 def test_a_model_without_elements_is_refused(solver):
     with pytest.raises(ValueError, match="no elements"):

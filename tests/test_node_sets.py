@@ -144,6 +144,28 @@ def test_a_malformed_bound_is_an_error_at_its_own_key(bounds, key, message):
         case_from_data(strip({"tip": bounds}), "strip.toml")
 
 
+@pytest.mark.parametrize(
+    "tables, at",
+    [
+        ({"fix": [{"nodes": {}}]}, r"\[fix\[0\]\.nodes\]"),
+        ({"fix": [{"nodes": {"tolerance": 1.0}}]}, r"\[fix\[0\]\.nodes\]"),
+        ({"displace": [{"nodes": {}, "uz": 1.0}]}, r"\[displace\[0\]\.nodes\]"),
+        ({"force": [{"nodes": {}, "vector": [0.0, 0.0, 1.0]}]}, r"\[force\[0\]\.nodes\]"),
+        ({"moment": [{"nodes": {}, "vector": [0.0, 0.0, 1.0]}]}, r"\[moment\[0\]\.nodes\]"),
+        ({"grip": [{"nodes": {}, "stiffness": 1.0}]}, r"\[grip\[0\]\.nodes\]"),
+        ({"contact": [{"tool": "plane", "point": [0.0, 0.0, -1.0], "normal": [0.0, 0.0, 1.0],
+                       "nodes": {}}]}, r"\[contact\[0\]\.nodes\]"),
+        ({"output": {"paths": {"centre": {}}}}, r"\[output\.paths\.centre\]"),
+        ({"sets": {"blank": {}}}, r"\[sets\.blank\]"),
+    ],
+)  # fmt: skip
+def test_an_empty_bounds_table_is_refused_not_read_as_every_node(tables, at):
+    # ``nodes = {}`` held no bound, so every node passed: a [[fix]] clamped the whole mesh
+    sets = tables.pop("sets", {})
+    with pytest.raises(CaseError, match=rf"strip\.toml: {at}: no bound given.*x_min"):
+        case_from_data(strip(sets, **tables), "strip.toml")
+
+
 def test_select_by_bounds_raises_a_value_error_that_names_the_key():
     with pytest.raises(ValueError) as caught:
         select_by_bounds(np.zeros((2, 3)), {"x_min": "200%"})

@@ -99,6 +99,9 @@ class FibrousShell(ElementType):
     dofs = FibrousShellBlock.dofs
     cell_type = FibrousShellBlock.cell_type
     defines_directors = True
+    # Its directors are material normals (their turn is the layers' slip, docs/theory.md
+    # §1.7) and its bending is rotation-free (§4): a nodal moment would not bend it.
+    takes_moments = False
 
     def __init__(
         self,

@@ -1,0 +1,65 @@
+"""A case's model built table by table, each entry it adds (element block, support,
+prescribed motion, load, interaction) remembered with the table of the case file that wrote
+it, so that an error in building or compiling the model names the file, the table and the
+key, as the errors of reading the file do (fibreshell/case_reading.py)."""
+
+from __future__ import annotations
+
+import warnings
+from collections.abc import Iterator
+from contextlib import contextmanager
+
+from femcore import Model
+from femcore.entry_error import ENTRY_LISTS, EntryError, EntryWarning
+from fibreshell.case_reading import CaseError, _Where
+
+__all__ = ["LocatedModel"]
+
+
+class LocatedModel:
+    """A ``Model`` and, for each of its entries, the table that wrote it.
+
+    ``with located.at(where, key) as model:`` builds with ``model``; a ValueError raised there
+    becomes a CaseError at ``where`` (and ``key``), and the entries added there are noted as
+    written at ``where``. ``compile()`` compiles the model; a ``femcore.entry_error.EntryError``
+    becomes a CaseError at the table of the entry it names, and an ``EntryWarning`` (a body
+    that starts overlapping a tool) a UserWarning that names that table.
+    """
+
+    def __init__(self, model: Model) -> None:
+        self.model = model
+        self.places: dict[str, list[_Where]] = {kind: [] for kind in ENTRY_LISTS}
+
+    @contextmanager
+    def at(self, where: _Where, key: str | None = None) -> Iterator[Model]:
+        try:
+            yield self.model
+        except CaseError:
+            raise
+        except ValueError as error:
+            raise where.error(key, str(error)) from None
+        finally:
+            for kind, name in ENTRY_LISTS.items():
+                places = self.places[kind]
+                places.extend([where] * (len(getattr(self.model, name)) - len(places)))
+
+    def compile(self) -> Model:
+        """The model, compiled (its compiled form is kept for the solver); raises CaseError
+        for an entry that cannot bind or apply."""
+        with warnings.catch_warnings(record=True) as said:
+            warnings.simplefilter("always")
+            try:
+                self.model.compile()
+            except EntryError as error:
+                places = self.places[error.kind]
+                if error.index >= len(places):  # added outside ``at``: nothing to name
+                    raise
+                raise places[error.index].error(None, error.reason) from None
+        for warning in said:  # said again, those about an entry at its table
+            message = warning.message
+            if isinstance(message, EntryWarning) and message.index < len(self.places[message.kind]):
+                text = str(self.places[message.kind][message.index].error(None, message.reason))
+                warnings.warn(text, UserWarning, stacklevel=3)
+            else:
+                warnings.warn_explicit(message, warning.category, warning.filename, warning.lineno)
+        return self.model
