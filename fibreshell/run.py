@@ -17,7 +17,7 @@ import numpy as np
 
 from femcore.results import Frame, Result
 from femcore.writable import FIRST_FRAMES, OutputError, check_folder, frame_bytes, series_frames
-from fibreshell.case import DEFAULT_CHECKPOINT, Case
+from fibreshell.case import Case
 from fibreshell.case_reading import _Where
 from fibreshell.outputs import checkpoint_collision, clean_run
 from solvers import Interrupted, SolverError
