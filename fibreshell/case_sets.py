@@ -175,9 +175,12 @@ def order_path(points: np.ndarray, ids: np.ndarray) -> np.ndarray:
     ------
     BoundsError
         When two nodes stand at one position along the axis (within 1e-6 of the mesh's
-        largest extent, the selections' default tolerance): the nodes are an area, not a line
-        (a bound forgotten, ``y_min = "0%"`` without ``y_max``), and the order would zigzag
-        across it; the message says how many nodes share how many positions.
+        largest extent, the selections' default tolerance), or when, so ordered, a step from
+        node to node turns back on the one before (by more than 90 deg): the nodes are an area,
+        not a line (a bound forgotten, ``y_min = "0%"`` without ``y_max``; on a mesh not
+        aligned with the axes no two nodes share a position, and the order zigzags across the
+        area), or a line that turns back along its longest extent (a hat section), which
+        this order cannot follow; the message says which.
     """
     chosen = points[ids]
     axis = int(np.argmax(np.ptp(chosen, axis=0)))
@@ -186,16 +189,32 @@ def order_path(points: np.ndarray, ids: np.ndarray) -> np.ndarray:
     size = float(np.ptp(points, axis=0).max()) or 1.0
     group = np.r_[0, np.cumsum(np.diff(along) > 1e-6 * size)]  # one number per position
     counts = np.bincount(group)
-    if counts.max() == 1:
-        return ids[order]
-    shared = np.flatnonzero(counts > 1)
     name = "xyz"[axis]
-    first = along[group == shared[0]][0]
-    plural = "s" if len(shared) > 1 else ""
-    raise BoundsError(
-        f"not a line: {counts[shared].sum()} of its {len(ids)} nodes share {len(shared)} "
-        f"position{plural} along {name}, its longest extent (the first: {counts[shared[0]]} "
-        f"nodes at {name} = {first:g}); a path is one node at each position along it, ordered "
-        "by it: give the bounds that make it one line of nodes (both y_min and y_max for a "
-        "line along x)"
+    way_out = (
+        f"a path is one line of nodes, each at its own position along {name}, its longest "
+        "extent, and ordered by it: give the bounds that make it one (both y_min and y_max for "
+        "a line along x; a line that turns back along its longest extent, a hat section, as "
+        "pieces that each run one way)"
     )
+    if counts.max() > 1:
+        shared = np.flatnonzero(counts > 1)
+        first = along[group == shared[0]][0]
+        plural = "s" if len(shared) > 1 else ""
+        raise BoundsError(
+            f"not a line: {counts[shared].sum()} of its {len(ids)} nodes share {len(shared)} "
+            f"position{plural} along {name} (the first: {counts[shared[0]]} nodes at {name} = "
+            f"{first:g}): an area, or a line that turns back along {name}; {way_out}"
+        )
+    # Ordered along the axis, a line's steps run on one after another; an area's zigzag
+    # across it (each step back over the one before), wherever its nodes stand along the axis.
+    steps = np.diff(chosen[order], axis=0)
+    turned = np.einsum("ij,ij->i", steps[:-1], steps[1:]) <= 0.0
+    if turned.any():
+        at = chosen[order][1:-1][turned][0]
+        raise BoundsError(
+            f"not a line: ordered along {name}, its steps from node to node turn back by more "
+            f"than 90 deg at {int(turned.sum())} of its {len(turned)} inner nodes (the first "
+            f"at {name} = {at[axis]:g}): an area, or a line that turns back along {name}; "
+            f"{way_out}"
+        )
+    return ids[order]

@@ -9,6 +9,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from femcore.mesh import Mesh
 from fibreshell.case import CaseError, case_from_data, read_case_data
 from fibreshell.case_sets import BoundsError, order_path, select_by_bounds
 from fibreshell.sweep import apply_overrides
@@ -102,6 +103,27 @@ def test_a_curved_line_of_nodes_is_a_path_ordered_along_its_longest_extent():
     corner = np.array([[0.0, 0.0, 0.0], [10.0, 0.0, 0.0], [10.0, 5.0, 0.0]])  # a bend: 2 at x=10
     with pytest.raises(BoundsError, match="2 of its 3 nodes share 1 position along x"):
         order_path(corner, np.arange(3))
+
+
+def test_an_area_on_a_mesh_not_aligned_with_the_axes_is_refused_as_its_order_zigzags():
+    """Two rows of a 10 x 4-cell strip turned 3 deg in its plane: no two of their 22 nodes
+    share a position along x, and ordered by x they zigzag from row to row (an arc length of
+    167 mm along a 100-mm strip): at every inner node the path turns back. One row of it,
+    turned alike, is a path."""
+    mesh = Mesh.rectangle(100.0, 20.0, nx=10, ny=4)
+    turn = np.radians(3.0)
+    rotation = np.array([[np.cos(turn), -np.sin(turn), 0], [np.sin(turn), np.cos(turn), 0],
+                         [0, 0, 1]])  # fmt: skip
+    turned = mesh.points @ rotation.T
+    two_rows = np.flatnonzero(mesh.points[:, 1] <= 5.0 + 1e-9)
+    assert len(two_rows) == 22
+    with pytest.raises(
+        BoundsError, match=r"not a line: ordered along x, .* at 20 of its 20 inner nodes"
+    ):
+        order_path(turned, two_rows)
+    one_row = np.flatnonzero(mesh.points[:, 1] <= 1e-9)
+    ordered = order_path(turned, one_row)
+    assert np.all(np.diff(turned[ordered, 0]) > 0) and len(ordered) == 11
 
 
 # ---------------------------------------------------------------------- errors
