@@ -15,6 +15,7 @@ __all__ = [
     "USER_LEVELS",
     "interaction_notes",
     "unbalanced_translations",
+    "unbalanced_turns",
     "unheld_rigid_motions",
 ]
 
@@ -29,32 +30,14 @@ RIGID_MOTIONS: tuple[str, ...] = (
 )
 
 
-def unheld_rigid_motions(model: CompiledModel, loaded_only: bool = True) -> list[str]:
-    """The rigid motions that no support holds and the full dead loads would push: an
-    equilibrium the quasi-static solvers cannot find (a mechanism). With
-    ``loaded_only=False``, every rigid motion no support holds, loaded or not (what makes a
-    tangent stiffness singular).
-
-    The six rigid motions (translations along x, y, z; rotations about the axes through
-    the centroid, directors turning with the body) restricted to the fixed and
-    prescribed DOFs span what the supports hold; a motion in the rest does work with
-    the loads (forces and moments at load factor 1, and at USER_LEVELS too where some have a
-    user amplitude, which may vanish at 1) unless they are self-balanced along it. An
-    interaction holds what its ``held_directions`` state (a frictionless tool: the motion
-    along its normal at the contact nodes, so that a translation along a plane or a turn
-    about a cylinder's axis stays free); a model with an interaction that does not say is not
-    checked.
-
-    Returns
-    -------
-    list of str
-        The elementary motions (e.g. "translation along z") along which the loads do work
-        with nothing holding the model, or a description of the combined motion; empty
-        when every loaded rigid motion is held.
-    """
+def _rigid_basis(model: CompiledModel):
+    """The six rigid motions of the model and those its supports leave free: (motions (6, n,
+    6), generalised (6, n, 5), held (rows, 6), free_motions (k, 6): each a translation and a
+    rotation vector about ``centre``, scale (6,), centre (3,)); None where an interaction does
+    not say what it holds."""
     contact_rows = _interaction_rows(model)
     if contact_rows is None:
-        return []
+        return None
     dofs = model.dofs
     x = model.reference_positions
     # A rigid tool's own node (a force-driven tool) is another body: it does not move with
@@ -94,6 +77,38 @@ def unheld_rigid_motions(model: CompiledModel, loaded_only: bool = True) -> list
         free_motions = vt[rank:] / scale  # (k, 6): q = z / scale for held z = 0
     else:
         free_motions = np.eye(6)
+    return motions, generalised, held, free_motions, scale, centre
+
+
+def unheld_rigid_motions(model: CompiledModel, loaded_only: bool = True) -> list[str]:
+    """The rigid motions that no support holds and the full dead loads would push: an
+    equilibrium the quasi-static solvers cannot find (a mechanism). With
+    ``loaded_only=False``, every rigid motion no support holds, loaded or not (what makes a
+    tangent stiffness singular).
+
+    The six rigid motions (translations along x, y, z; rotations about the axes through
+    the centroid, directors turning with the body) restricted to the fixed and
+    prescribed DOFs span what the supports hold; a motion in the rest does work with
+    the loads (forces and moments at load factor 1, and at USER_LEVELS too where some have a
+    user amplitude, which may vanish at 1) unless they are self-balanced along it. An
+    interaction holds what its ``held_directions`` state (a frictionless tool: the motion
+    along its normal at the contact nodes, so that a translation along a plane or a turn
+    about a cylinder's axis stays free); a model with an interaction that does not say is not
+    checked.
+
+    Returns
+    -------
+    list of str
+        The elementary motions (e.g. "translation along z") along which the loads do work
+        with nothing holding the model, or a description of the combined motion; empty
+        when every loaded rigid motion is held.
+    """
+    basis = _rigid_basis(model)
+    if basis is None:
+        return []
+    motions, generalised, held, free_motions, scale, centre = basis
+    dofs = model.dofs
+    length = scale[3]
     if not loaded_only:
         # Only the motions that move some free DOF count: a cable turning about its own
         # line, or any body about an axis through all its nodes, moves nothing.
@@ -175,6 +190,53 @@ def unbalanced_translations(model: CompiledModel) -> list[str]:
     if len(axes) == 1:
         return [RIGID_MOTIONS[int(axes[0])]]
     return [_described(np.concatenate([along, np.zeros(3)]), np.zeros(3))]
+
+
+def unbalanced_turns(model: CompiledModel) -> list[str]:
+    """The free rotations along which dead nodal moments turn the model with no force able to
+    turn it back: no equilibrium exists at any shape. A dead force's moment about an axis of
+    direction w is (r x F) . w = r . (F x w), nothing at any shape r where F is along w; a dead
+    moment's is M . w at every shape. So where every force is along w (or none acts) and the
+    moments have a part along w, nothing balances them however the body turns (a strip on a
+    hinge under a moment about the hinge). Forces across w may balance a moment a finite turn
+    away (a pendulum): not counted here.
+
+    Returns
+    -------
+    list of str
+        The directions w ("rotation about y", or "rotation about (0.6, 0, 0.8)"); empty when
+        there is none, or an interaction does not say what it holds.
+    """
+    basis = _rigid_basis(model)
+    if basis is None or not len(basis[3]):
+        return []
+    free, scale = basis[3], basis[4]
+    # The free motions are unit with rotations counted as translations at the model's size
+    # (scale): a turn among them has a rotation part of about 1 / size.
+    axes, weights, _ = np.linalg.svd(free[:, 3:].T, full_matrices=False)
+    directions = axes[:, weights > 1e-6 / scale[3]].T
+    body = model.dofs.active[:, 0].copy()
+    body[model.rigid_nodes] = False
+    found = []
+    for w in directions:
+        for force, moment in _load_levels(model):
+            forces = force[body]
+            across = float(np.abs(np.cross(forces, w)).sum())
+            if across > 1e-9 * max(float(np.abs(forces).sum()), 1e-300):
+                continue  # a force across w may turn it back a finite turn away
+            about = float(moment.sum(axis=0) @ w)
+            if abs(about) > 1e-9 * max(float(np.abs(moment).sum()), 1e-300):
+                axis = np.flatnonzero(np.abs(w) > 1e-9)
+                along = w * np.sign(w[np.argmax(np.abs(w))])
+                found.append(
+                    RIGID_MOTIONS[3 + int(axis[0])]
+                    if len(axis) == 1
+                    else "rotation about an axis along ("
+                    + ", ".join(f"{v:.3g}" for v in np.where(np.abs(along) < 1e-9, 0.0, along))
+                    + ")"
+                )
+                break
+    return found
 
 
 #: The load factors besides 1 at which the loads are checked when some have a user amplitude,

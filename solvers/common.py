@@ -10,7 +10,7 @@ from types import FrameType
 import numpy as np
 
 from femcore.checks import as_number, check_positive
-from femcore.diagnostics import unbalanced_translations
+from femcore.diagnostics import unbalanced_translations, unbalanced_turns
 from femcore.model import CompiledModel, Model
 from femcore.results import Frame, Result
 from femcore.state import State
@@ -89,20 +89,21 @@ class StepTooLong(IncrementFailed):
 
 
 def check_held(model: CompiledModel, swings: bool = False) -> None:
-    """Raise ValueError when the loads push the model along a rigid motion that no support
-    holds (CompiledModel.unheld_rigid_motions; a check at the starting shape, linear).
+    """Raise ValueError when the loads push the model along a rigid motion that no support holds
+    (CompiledModel.unheld_rigid_motions; a check at the starting shape, linear).
 
-    Where the loads have a net force along a translation nothing holds, no equilibrium exists
-    at any shape (femcore.diagnostics.unbalanced_translations), and a quasi-static solver would
-    only report a residual that never falls. Where the loaded free motions are rotations (a
-    strip held at an edge in translations only, a cable pinned at one end, under gravity), the
-    model is a mechanism at its starting shape, where Static cannot start (its tangent is
+    Where the loads have a net force along a translation nothing holds, no equilibrium exists at
+    any shape (femcore.diagnostics.unbalanced_translations; so where moments turn it about a
+    free axis that no force can turn it back about, unbalanced_turns), and a quasi-static solver
+    would only report a residual that never falls. Where the loaded free motions are rotations
+    (a strip held at an edge in translations only, a cable pinned at one end, under gravity),
+    the model is a mechanism at its starting shape, where Static cannot start (its tangent is
     singular along them), but it may hang in equilibrium a finite motion away: refused with
-    ``swings=False`` (Static), let through with ``swings=True`` (DynamicRelaxation, whose
-    damped motion swings it down there). A model held by contact is refused for any rigid
-    motion left free, loaded or not: a body on a frictionless tool slides along it at the
-    first sideways force (the tools' curvature, the round-off of the contact forces), and its
-    tangent is singular along the slide."""
+    ``swings=False`` (Static), let through with ``swings=True`` (DynamicRelaxation, whose damped
+    motion swings it down there). A model held by contact is refused for any rigid motion left
+    free, loaded or not: a body on a frictionless tool slides along it at the first sideways
+    force (the tools' curvature, the round-off of the contact forces), and its tangent is
+    singular along the slide."""
     motions = model.unheld_rigid_motions()
     notes = model.interaction_notes()
     noted = "".join(f"; {note}" for note in notes)
@@ -113,6 +114,15 @@ def check_held(model: CompiledModel, swings: bool = False) -> None:
                 f"the loads have a net force along rigid motions that nothing holds "
                 f"({'; '.join(pushed)}){noted}: no equilibrium exists at any shape. Fix or "
                 "prescribe DOFs that hold them (model.fix, model.displace), or balance the loads"
+            )
+        turned = unbalanced_turns(model)
+        if turned:
+            raise ValueError(
+                f"the moments turn the model along rigid motions that nothing holds "
+                f"({'; '.join(turned)}){noted}, and no force can turn it back (every force "
+                "lies along that axis, or none acts): no equilibrium exists at any shape. Fix "
+                "or prescribe DOFs that hold them (model.fix, model.displace), or balance the "
+                "moments"
             )
         if not swings:
             raise ValueError(

@@ -49,6 +49,42 @@ def test_a_load_that_a_user_amplitude_takes_off_again_is_checked_on_the_way():
         Static(progress=False).solve(model)
 
 
+def hinged_strip() -> Model:
+    """A Mindlin strip held at x = 0 in translations only: a hinge about its left edge (y)."""
+    model = Model(Mesh.rectangle(100.0, 20.0, nx=4, ny=1))
+    model.add(MindlinShell(ElasticShell(1e4, 0.3, 1.0, 1e-9)))
+    model.fix("left", ["ux", "uy", "uz"])
+    return model
+
+
+@pytest.mark.parametrize(
+    "solver",
+    [Static(progress=False), DynamicRelaxation(progress=False)],
+    ids=["static", "relaxation"],
+)
+def test_a_dead_moment_about_a_free_hinge_with_no_force_across_it_has_no_equilibrium(solver):
+    # A dead moment's part about the hinge is the same at every turn, and the hinge's
+    # reactions act on its axis: nothing balances it (DynamicRelaxation ran 20000 iterations
+    # into a stall before it was refused; Static pointed to DynamicRelaxation).
+    model = hinged_strip()
+    model.moment("right", (0.0, 1.0, 0.0))
+    with pytest.raises(ValueError, match=r"\(rotation about y\), and no force can turn it back"):
+        solver.solve(model)
+
+
+def test_a_moment_about_a_hinge_that_a_force_across_it_may_balance_is_let_through_to_relaxation():
+    # With the strip's weight across the hinge a finite turn may balance the moment (a
+    # pendulum): not refused as having no equilibrium (Static still cannot start there).
+    model = hinged_strip()
+    model.moment("right", (0.0, 1e-3, 0.0))
+    model.gravity((0.0, 0.0, -9810.0))
+    from solvers.common import check_held
+
+    check_held(model.compile(), swings=True)
+    with pytest.raises(ValueError, match="mechanism there, and Static cannot start"):
+        check_held(model.compile(), swings=False)
+
+
 def test_a_strip_hanging_from_its_edge_is_a_mechanism_static_cannot_start_from():
     # Held at x = 0 in translations only, it turns about that edge under its weight: no
     # equilibrium at the flat start, but one a quarter turn down (hanging).
