@@ -144,10 +144,15 @@ class GershgorinMasses(RelaxationMasses):
         # this one is the same in every consistent set of units, where the plain row sums
         # added N/mm to N/rad (a Mindlin cantilever 1000 times larger, in the same units,
         # stalled: the coupling terms K_u,theta made its translations 1000 times too heavy).
+        # Without rotations D = 1: the plain sums, in their own order (the same bits).
         lengths = np.ones((n, N_COLUMNS))
         lengths[:, 3:] = 1.0 / self.length
         d = lengths.ravel()[free]
-        rows[free] = np.asarray(abs(k[free][:, free]) @ d).ravel() / d
+        magnitudes = abs(k[free][:, free])
+        if (d == 1.0).all():
+            rows[free] = np.asarray(magnitudes.sum(axis=1)).ravel()
+        else:
+            rows[free] = np.asarray(magnitudes @ d).ravel() / d
         rows = rows.reshape(n, N_COLUMNS) * (self.scale * inflate)
         mass = rows[:, :3]
         # Elsewhere (cables, partly held nodes) one mass for the three axes: global axes do
