@@ -1,6 +1,6 @@
-"""The least force reference of Static's convergence test: the size of the rounding of the
-internal forces, so that a residual is never judged against a reference that vanishes below
-the model's own round-off (docs/theory.md §6.4).
+"""The least force reference of the convergence test of Static and DynamicRelaxation: the
+size of the rounding of the internal forces, so that a residual is never judged against a
+reference that vanishes below the model's own round-off (docs/theory.md §6.4, §6.5).
 
 The convergence test divides the out-of-balance by F_ref = max(||F_ext||, ||F_int||, ...)
 (solvers.convergence). Where the true answer carries almost no force (a rigid motion
