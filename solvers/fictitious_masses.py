@@ -103,6 +103,7 @@ class GershgorinMasses(RelaxationMasses):
         self.others = [i for i in range(len(model.parts)) if i not in own]
         # The colouring loops over the nodes: once per solve.
         self.graph = model.node_graph(self.others) if self.others else None
+        self.length = model.element_size
         self.length2 = model.element_size**2
         self.triangles = model.mesh.triangles
         self.local = np.zeros(model.n_nodes, dtype=bool)
@@ -137,7 +138,21 @@ class GershgorinMasses(RelaxationMasses):
         k = _in_node_axes(k, axes)
         free = dofs.free_slots
         rows = np.zeros(dofs.n_slots)
-        rows[free] = np.asarray(abs(k[free][:, free]).sum(axis=1)).ravel()
+        # The row sums of D^-1 |K| D, D = 1 on the translations and 1 / L_e on the rotations:
+        # the Gershgorin masses of the unknowns (u, L_e theta), all lengths, brought back to
+        # the rotations (J = L_e^2 m). Gershgorin's bound holds for any such similarity, and
+        # this one is the same in every consistent set of units, where the plain row sums
+        # added N/mm to N/rad (a Mindlin cantilever 1000 times larger, in the same units,
+        # stalled: the coupling terms K_u,theta made its translations 1000 times too heavy).
+        # Without rotations D = 1: the plain sums, in their own order (the same bits).
+        lengths = np.ones((n, N_COLUMNS))
+        lengths[:, 3:] = 1.0 / self.length
+        d = lengths.ravel()[free]
+        magnitudes = abs(k[free][:, free])
+        if (d == 1.0).all():
+            rows[free] = np.asarray(magnitudes.sum(axis=1)).ravel()
+        else:
+            rows[free] = np.asarray(magnitudes @ d).ravel() / d
         rows = rows.reshape(n, N_COLUMNS) * (self.scale * inflate)
         mass = rows[:, :3]
         # Elsewhere (cables, partly held nodes) one mass for the three axes: global axes do

@@ -31,6 +31,7 @@ from __future__ import annotations
 import math
 import os
 import time
+import warnings
 from dataclasses import replace
 from functools import partial
 
@@ -62,6 +63,7 @@ from solvers.common import (
 from solvers.convergence import Equilibrium
 from solvers.dynamics import damped_velocity
 from solvers.fictitious_masses import TURN, GershgorinMasses, PhysicalMasses, RelaxationMasses
+from solvers.force_floor import round_off_force
 from solvers.interrupts import STOP, Interrupted, check_outputs, keeps_writes
 from solvers.output import checkpoint_path, resume, save_checkpoint
 from solvers.progress import relaxed_share
@@ -293,6 +295,10 @@ class DynamicRelaxation:
         signature,
     ) -> Result:
         """Relax the increments after the ``done`` ones of ``solve``, saving each."""
+        # The force reference never below the rounding of the internal forces
+        # (solvers.force_floor): a prescribed rigid motion has no other.
+        own = compiled.own_tangents(compiled.initial_state())
+        rounding = round_off_force(compiled, [part for parts in own.values() for part in parts])
         for increment in range(done + 1, self.increments + 1):
             load_factor = first + (1.0 - first) * increment / self.increments
             state = replace(state, load_factor=load_factor, time=load_factor)
@@ -307,7 +313,7 @@ class DynamicRelaxation:
                         masses,
                         progress,
                         increment,
-                        _reference_floor(compiled, frames[-1]),
+                        max(rounding, _reference_floor(compiled, frames[-1])),
                     )
             except (ConvergenceError, DivergenceError, Interrupted) as error:
                 if isinstance(error, Interrupted):
@@ -435,6 +441,7 @@ class DynamicRelaxation:
                     None,
                 )
             if ok:
+                _warn_below_floor(balance.test, floor, self.tol, load_factor)
                 reactions, reaction_moments = balance.reactions(state, f_int, m_int, moment)
                 rest = replace(
                     state,
@@ -660,6 +667,19 @@ def _stall_message(model: CompiledModel, increment: int, solver, load_factor: fl
         f"{solver.stall_iterations} iterations), nothing stops the motion: {cause}. Fix or "
         "prescribe DOFs that hold it, or balance the loads."
     )
+
+
+def _warn_below_floor(test: Equilibrium, floor: float, tol: float, load_factor: float) -> None:
+    """Warn when loads that are not zero lie below the force reference's floor: the solve
+    then judges them as round-off (solvers.force_floor), accurate to tol x floor only."""
+    loads = max(test.f_ext_norm, test.m_ext_norm / test.element_size)
+    if 0.0 < loads < floor:
+        warnings.warn(
+            f"dynamic relaxation at load factor {load_factor:.4g}: the loads ({loads:.3g} N) are "
+            f"below the rounding of the internal forces ({floor:.3g} N), so the equilibrium is "
+            f"only as exact as {tol * floor:.3g} N; Static (tol 1e-8) resolves them",
+            stacklevel=4,
+        )
 
 
 def _reference_floor(model: CompiledModel, last: Frame) -> float:

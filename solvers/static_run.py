@@ -32,6 +32,7 @@ from solvers.common import (
     outside_stacklevel,
     resolve_progress,
 )
+from solvers.force_floor import round_off_force
 from solvers.interrupts import STOP, Interrupted
 from solvers.linear import Factorisation, LinearSolver
 from solvers.newton import Residual, Tangent, compression_free_ratio
@@ -61,12 +62,15 @@ class StaticRun:
         # The least force reference of the convergence test (solvers.convergence): 1e-300,
         # or with user amplitudes the loads and reactions of the last converged frame, since
         # such an amplitude may bring the loads back to zero (a load then unload), where the
-        # reference of the level alone would judge round-off against round-off.
-        self.reference_floor = 1e-300
+        # reference of the level alone would judge round-off against round-off. Never below
+        # the rounding of the internal forces (solvers.force_floor), where the answer carries
+        # almost no force (a prescribed rigid motion, a load of 1e-10 N).
+        own_parts = model.own_tangents(self.state) if solver.tangent == "element" else {}
+        self.round_off = round_off_force(model, [p for ps in own_parts.values() for p in ps])
+        self.reference_floor = max(1e-300, self.round_off)
         # Whether the load path is in the first increment of a phase (solvers.load_path;
         # solvers/newton.py ``opens_on_ramp``).
         self.opening = False
-        own_parts = model.own_tangents(self.state) if solver.tangent == "element" else {}
         own = list(own_parts)
         others = [i for i in range(len(model.parts)) if i not in own]
         self._tangent = Tangent(model, own, others, (self.state, own_parts))
@@ -362,6 +366,7 @@ class StaticRun:
             size = model.element_size
             self.reference_floor = max(
                 1e-300,
+                self.round_off,
                 float(np.linalg.norm(f_ext)),
                 float(np.linalg.norm(reactions)),
                 float(np.linalg.norm(m_ext)) / size,

@@ -1,0 +1,72 @@
+"""Static converges where the answer carries almost no force: its force reference never falls
+below the rounding of the internal forces (solvers.force_floor, docs/theory.md §6.4).
+
+Before the floor, a rigid rotation prescribed on every node of a Mindlin plate stopped at load
+factor 0.999 ("8 cuts"), and a cantilever under a tip force of 1e-10 N did not converge
+(residual ratio 0.345 after 50 iterations): both judged round-off against round-off.
+"""
+
+import numpy as np
+import pytest
+
+from elements import MindlinShell
+from femcore import Mesh, Model
+from materials import ElasticShell
+from solvers import Static
+
+EPS = float(np.finfo(float).eps)
+
+
+def rotation(angle: float, axis) -> np.ndarray:
+    """Rodrigues' rotation matrix (3, 3) about the unit ``axis`` by ``angle`` rad."""
+    a = np.asarray(axis, dtype=float) / np.linalg.norm(axis)
+    k = np.array([[0.0, -a[2], a[1]], [a[2], 0.0, -a[0]], [-a[1], a[0], 0.0]])
+    return np.eye(3) + np.sin(angle) * k + (1.0 - np.cos(angle)) * (k @ k)
+
+
+def test_a_prescribed_rigid_rotation_leaves_no_force_and_turns_the_directors_with_it():
+    modulus, thickness = 1e3, 1.0  # MPa, mm
+    mesh = Mesh.rectangle(40.0, 20.0, nx=4, ny=2)
+    turn = rotation(np.radians(60.0), (1.0, 2.0, 3.0))
+    moved = mesh.points @ turn.T - mesh.points
+    model = Model(mesh)
+    model.add(MindlinShell(ElasticShell(E=modulus, nu=0.3, thickness=thickness, density=1e-9)))
+    every = np.arange(len(mesh.points))
+    model.displace(every, ux=moved[:, 0], uy=moved[:, 1], uz=moved[:, 2])
+    result = Static(increments=4).solve(model)
+    # Closed form: the rotated plate, its normals R e_z, no stress, so no reaction.
+    extent = float(np.abs(mesh.points).max())
+    np.testing.assert_allclose(result.positions, mesh.points @ turn.T, rtol=0, atol=1e-12 * extent)
+    np.testing.assert_allclose(result.directors, np.tile(turn[:, 2], (len(every), 1)), atol=1e-12)
+    # Round-off: coordinates of 45 mm round to eps 45 mm, forces to E t eps 45 mm = 1e-11 N;
+    # 1e3 times that allowed (3e-12 N measured).
+    allowed = 1e3 * EPS * modulus * thickness * extent
+    assert np.abs(result.reactions).max() <= allowed
+    assert np.abs(result.reaction_moments).max() <= allowed * extent
+
+
+def cantilever_tip(force: float) -> float:
+    """Mean tip deflection (mm) of a 100 x 10 x 1 mm Mindlin strip, E = 1e4 MPa, clamped at
+    x = 0, under a tip ``force`` (N) along -z."""
+    mesh = Mesh.rectangle(100.0, 10.0, nx=20, ny=2)
+    model = Model(mesh)
+    model.add(MindlinShell(ElasticShell(E=1e4, nu=0.0, thickness=1.0, density=1e-9)))
+    model.fix("left")
+    tip = mesh.nodes("right")
+    model.force(tip, (0.0, 0.0, -force / len(tip)))
+    result = Static(increments=1).solve(model)
+    return float(result.displacements[tip, 2].mean())
+
+
+def test_a_cantilever_under_a_tip_force_of_1e_10_newton_follows_beam_theory():
+    # P L^3 / (3 E I), I = b t^3 / 12: 40 mm per N; the shear flexibility adds (t/L)^2 of it.
+    compliance = 100.0**3 / (3.0 * 1e4 * 10.0 / 12.0)
+    # Forces whose deflection stays within 1e-4 of the length (linear): the tiny one and two
+    # ordinary ones, each within 0.5 % of the closed form (the 20 x 2 MITC3 strip: 0.05 %).
+    per_newton = {force: cantilever_tip(force) / force for force in (1e-10, 1e-8, 1e-3)}
+    for force, tip in per_newton.items():
+        assert tip == pytest.approx(-compliance, rel=5e-3), force
+    # Linearity: the tiny load's compliance is the ordinary one's to its round-off (the
+    # residual left is about 1e-3 of the floor, F_round = 7e-7 N).
+    assert per_newton[1e-10] == pytest.approx(per_newton[1e-3], rel=1e-3)
+    assert per_newton[1e-8] == pytest.approx(per_newton[1e-3], rel=1e-6)
