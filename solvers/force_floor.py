@@ -31,12 +31,18 @@ from femcore.assembly import tangent_matrix
 from femcore.dofs import N_COLUMNS
 from femcore.model import CompiledModel
 
-__all__ = ["ROUND_OFF_FORCES", "round_off_force"]
+__all__ = ["ROUND_OFF_FORCES", "UNLOADED_SHARE", "round_off_force", "unloaded_floor"]
 
 # The floor over the rounding estimate eps K_max X: the residual Newton leaves is below the
 # estimate (1e-13 N against 1e-11 N on the plate above), so that it is at most about 1e-3 of
 # the floor, where solvers.newton.at_round_off_floor ends the iterations.
 ROUND_OFF_FORCES = 1e3
+# With user amplitudes the loads may come back towards zero (a load then unload): an increment's
+# force reference is floored by this share of the last converged frame's loads and reactions.
+# Small, so that a level's own loads, where they are above it, set the test: the whole last
+# frame as the floor judged a partial unload to 1e-5 of its load against the load before, and
+# DynamicRelaxation ended there with the wrong sign (+1.76e-5 mm where -1.26e-5 is right).
+UNLOADED_SHARE = 1e-6
 
 
 def round_off_force(model: CompiledModel, parts) -> float:
@@ -54,3 +60,20 @@ def round_off_force(model: CompiledModel, parts) -> float:
     )
     extent = float(np.abs(model.reference_positions).max(initial=0.0))
     return ROUND_OFF_FORCES * float(np.finfo(float).eps) * stiffness * extent
+
+
+def unloaded_floor(model: CompiledModel, force, moment, reactions, reaction_moments) -> float:
+    """The least force reference of an increment after a frame with loads ``force``,
+    ``moment`` and reactions ``reactions``, ``reaction_moments`` ((n, 3) each, N and N mm):
+    UNLOADED_SHARE times the largest of their norms (moments over the element size), where
+    some load has a user amplitude; 0 otherwise (the loads then only grow with the load
+    factor)."""
+    if not model.user_amplitudes():
+        return 0.0
+    size = model.element_size
+    return UNLOADED_SHARE * max(
+        float(np.linalg.norm(force)),
+        float(np.linalg.norm(reactions)),
+        float(np.linalg.norm(moment)) / size,
+        float(np.linalg.norm(reaction_moments)) / size,
+    )

@@ -63,7 +63,7 @@ from solvers.common import (
 from solvers.convergence import Equilibrium
 from solvers.dynamics import damped_velocity
 from solvers.fictitious_masses import TURN, GershgorinMasses, PhysicalMasses, RelaxationMasses
-from solvers.force_floor import round_off_force
+from solvers.force_floor import round_off_force, unloaded_floor
 from solvers.interrupts import STOP, Interrupted, check_outputs, keeps_writes
 from solvers.output import checkpoint_path, resume, save_checkpoint
 from solvers.progress import relaxed_share
@@ -683,20 +683,15 @@ def _warn_below_floor(test: Equilibrium, floor: float, tol: float, load_factor: 
 
 
 def _reference_floor(model: CompiledModel, last: Frame) -> float:
-    """The least force reference of an increment (N): 0 (none), or with user amplitudes the
-    loads and reactions of the last frame, since such an amplitude may bring the loads back to
-    zero (a load then unload), where the level's own reference would judge round-off against
-    round-off (docs/theory.md §6.5, "How the loads are ramped")."""
+    """The least force reference of an increment (N) after the ``last`` frame, with user
+    amplitudes (solvers.force_floor.unloaded_floor: a share of that frame's loads and
+    reactions), since such an amplitude may bring the loads back to zero (a load then unload),
+    where the level's own reference would judge round-off against round-off (docs/theory.md
+    §6.5, "How the loads are ramped"); 0 without."""
     if not model.user_amplitudes():
         return 0.0
     f_ext, m_ext = model.external_load(last.time, quasi_static=True)
-    size = model.element_size
-    return max(
-        float(np.linalg.norm(f_ext)),
-        float(np.linalg.norm(last.reactions)),
-        float(np.linalg.norm(m_ext)) / size,
-        float(np.linalg.norm(last.reaction_moments)) / size,
-    )
+    return unloaded_floor(model, f_ext, m_ext, last.reactions, last.reaction_moments)
 
 
 class _Balance:

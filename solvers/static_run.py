@@ -32,7 +32,7 @@ from solvers.common import (
     outside_stacklevel,
     resolve_progress,
 )
-from solvers.force_floor import round_off_force
+from solvers.force_floor import round_off_force, unloaded_floor
 from solvers.interrupts import STOP, Interrupted
 from solvers.linear import Factorisation, LinearSolver
 from solvers.newton import Residual, Tangent, compression_free_ratio
@@ -363,14 +363,10 @@ class StaticRun:
         f_ext, m_ext, _ = self.solver.loads(model, self.reached)
         reactions, reaction_moments = equilibrium_reactions(model, state, f_ext, m_ext)
         if model.user_amplitudes():
-            size = model.element_size
             self.reference_floor = max(
                 1e-300,
                 self.round_off,
-                float(np.linalg.norm(f_ext)),
-                float(np.linalg.norm(reactions)),
-                float(np.linalg.norm(m_ext)) / size,
-                float(np.linalg.norm(reaction_moments)) / size,
+                unloaded_floor(model, f_ext, m_ext, reactions, reaction_moments),
             )
         self.keep(make_frame(model, state, reactions, reaction_moments))
         self.progress(

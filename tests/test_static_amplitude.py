@@ -90,6 +90,21 @@ def test_dynamic_relaxation_also_comes_back_from_a_load_then_unload():
     assert abs(relaxed[-1]) <= 1e-3 * abs(relaxed[1])
 
 
+@pytest.mark.parametrize("share", [1e-3, 1e-5])
+def test_a_partial_unload_is_converged_against_its_own_load_not_the_one_before(share):
+    # Full load to lambda = 1/2, then `share` of it: each level is judged against its own
+    # loads (the floor of the force reference is a millionth of the frame before), so the
+    # small end deflection is the linear one within the solvers' tolerance (Static 1e-6,
+    # DynamicRelaxation 1e-4 of its own force reference, the deflection to 1e-3). With the
+    # whole frame before as the floor DynamicRelaxation ended 2.4 % off at 1e-3 and with the
+    # wrong sign at 1e-5 (+1.76e-5 mm where -1.26e-5 is right).
+    model, tip = cantilever(lambda lam: 1.0 if lam <= 0.5 else share, ny=1)
+    static = tips(Static(increments=2, progress=False).solve(model), tip)
+    relaxed = tips(DynamicRelaxation(increments=2, progress=False).solve(model), tip)
+    assert static[-1] == pytest.approx(share * static[1], rel=1e-3)  # linear at that load
+    assert relaxed[-1] == pytest.approx(static[-1], rel=1e-3)
+
+
 def test_a_prescribed_displacement_follows_its_user_amplitude():
     # The free edge pulled down by 2 sin(pi lambda) mm: the edge's reaction follows the same
     # amplitude (small deflection: linear in the displacement), a(lambda) times the reaction
