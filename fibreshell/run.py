@@ -25,7 +25,7 @@ from solvers.common import SettingError
 from solvers.output import ENERGY_KEYS
 
 __all__ = [
-    "Run", "frame_row", "frames_written", "history_rows", "kept", "path_axis",
+    "Run", "check_run_options", "frame_row", "frames_written", "history_rows", "kept", "path_axis",
     "profile", "run_case", "section_thickness", "solve_keeping", "strict_json", "summarise",
 ]  # fmt: skip
 
@@ -49,6 +49,31 @@ class Run:
     status: str = "done"
     signal: str | None = None
     checkpoint: Path | None = None
+
+
+def check_run_options(
+    kinematics=None, calibration=None, shear_ratio=None, bending_scale=None, transverse_shear=None
+) -> None:
+    """Raise ValueError where a calibration or its numbers are given to a run whose
+    ``kinematics`` is not "mindlin": a calibration makes the Mindlin shell of the fabric, and a
+    run that keeps its fibrous parts (a sweep of shear_ratio without kinematics = "mindlin")
+    would ignore it and give the same rows whatever the values."""
+    given = {
+        name: value
+        for name, value in (
+            ("calibration", calibration),
+            ("shear_ratio", shear_ratio),
+            ("bending_scale", bending_scale),
+            ("transverse_shear", transverse_shear),
+        )
+        if value is not None
+    }
+    if given and kinematics != "mindlin":
+        raise ValueError(
+            f"{', '.join(given)} set how fibrous parts become Mindlin shells, which only "
+            f"kinematics='mindlin' does; with kinematics={kinematics!r} they would be ignored: "
+            "run with kinematics='mindlin' (a sweep: vary or set kinematics=mindlin too)"
+        )
 
 
 def run_case(
@@ -105,16 +130,18 @@ def run_case(
     Raises
     ------
     ValueError
-        ``out`` is a file or under one; ``resume`` without a checkpoint to resume from; a
-        checkpoint path that lands on a file the run writes in ``out``; a CaseError (naming
-        the file, the table and the key) for a model that cannot be built or a solver setting
-        it cannot be run with (``max_steps``, mass scaling).
+        A calibration or its numbers given where ``kinematics`` is not "mindlin" (they would
+        be ignored); ``out`` is a file or under one; ``resume`` without a checkpoint to resume
+        from; a checkpoint path that lands on a file the run writes in ``out``; a CaseError
+        (naming the file, the table and the key) for a model that cannot be built or a solver
+        setting it cannot be run with (``max_steps``, mass scaling).
     femcore.writable.OutputError
         ``out`` cannot be written or is too full for the first frames, or a write failed
         during the run (the message names the file and what was kept).
     """
     from fibreshell.calibration import Calibration
 
+    check_run_options(kinematics, calibration, shear_ratio, bending_scale, transverse_shear)
     mesh = case.mesh
     kind = case.solver["kind"]
     # Room for the first frames only where frames are written (an explicit run always).

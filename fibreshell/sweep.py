@@ -457,6 +457,8 @@ def sweep(
         variant failing to build (then the sweep itself is wrong: the first error is given);
         more than ``max_variants`` variants; ``in_process`` with ``scheduler`` or ``workers``.
     """
+    from fibreshell.run import check_run_options
+
     if not isinstance(in_process, (bool, np.bool_)):
         raise ValueError(f"in_process must be True or False, got {in_process!r}")
     if in_process and (scheduler is not None or workers is not None):
@@ -485,9 +487,10 @@ def sweep(
         label = f"variant-{i:03d}"
         row: dict[str, Any] = {"variant": i, "folder": label if folder else "", **overrides}
         rows.append(row)
-        tables, _ = apply_overrides(data, overrides)  # a wrong key: the sweep's ValueError
+        tables, options = apply_overrides(data, overrides)  # a wrong key: the sweep's error
         try:
             case_from_data(tables, path)  # a value the case refuses: this variant's row
+            check_run_options(**options)  # a calibration its kinematics would ignore
         except (CaseError, ValueError) as error:
             row.update(converged=False, error=f"{type(error).__name__}: {error}")
             errors.append(str(error))
