@@ -138,6 +138,9 @@ def test_the_hemisphere_fibres_are_every_step_th_row_and_column_of_the_grid(tmp_
         positions=np.vstack([moved, [[0.0, 0.0, 1.0]]]),  # and the holder's node
         frames=[SimpleNamespace(time=t, tool_forces=np.zeros((3, 3))) for t in (0.0, 0.3)],
         write=lambda path: None,
+        # what the force figure's caption says of the run's pace (quasi_static_words)
+        info={"quasi_static": {"kinetic_over_work_largest": 0.01, "exceeded_share": 0.0}},
+        energies={"damping": np.array([0.0, 0.01]), "external_work": np.array([0.0, 1.0])},
     )
     data = case.HemisphereData(
         mesh=mesh, runs={"fibrous": run, "mindlin": run},
