@@ -38,6 +38,7 @@ __all__ = [
     "CHORD_GAIN",
     "LARGEST_CHORD_RATIO",
     "DESIRED_ITERATIONS",
+    "changed_options",
     "JUMP_ITERATIONS",
     "LONGEST_STEP",
     "SHIFT_CEILING",
@@ -96,6 +97,12 @@ ARC_DEFAULTS = {
 }
 
 
+def changed_options(given: dict, defaults: dict) -> list[str]:
+    """The options of ``given`` (name -> value) that differ from their ``defaults``, as
+    "name=value": those a path would ignore, named in its refusal."""
+    return [f"{name}={given[name]!r}" for name in defaults if given[name] != defaults[name]]
+
+
 def check_arc_options(
     path: str, max_increments: object, arc_iterations: object, arc_chords: object, at_limit: object
 ) -> tuple[int, float, str]:
@@ -130,9 +137,7 @@ def check_arc_options(
             "arc_chords": chords,
             "at_limit": at_limit,
         }
-        ignored = [
-            f"{name}={given[name]!r}" for name in ARC_DEFAULTS if given[name] != ARC_DEFAULTS[name]
-        ]
+        ignored = changed_options(given, ARC_DEFAULTS)
         if ignored:
             raise ValueError(
                 f"{', '.join(ignored)} given with path='load': the arc-length path's options, "

@@ -8,7 +8,7 @@ from __future__ import annotations
 import math
 from typing import TYPE_CHECKING
 
-from solvers.arc_length import JUMP_ITERATIONS, descend
+from solvers.arc_length import JUMP_ITERATIONS, changed_options, descend
 from solvers.augmentation import augment
 from solvers.newton import IncrementFailed, StepTooLong
 from solvers.penalty_start import newton_with_soft_start
@@ -41,9 +41,7 @@ def check_load_options(path: str, at_limit: str, given: dict) -> None:
     at_limit="follow", which would ignore it."""
     if path != "arc_length" or at_limit != "follow":
         return
-    ignored = [
-        f"{name}={given[name]!r}" for name in LOAD_DEFAULTS if given[name] != LOAD_DEFAULTS[name]
-    ]
+    ignored = changed_options(given, LOAD_DEFAULTS)
     if ignored:
         raise ValueError(
             f"{', '.join(ignored)} given with path='arc_length': the load path's options, "
