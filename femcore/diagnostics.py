@@ -215,12 +215,12 @@ def unbalanced_turns(model: CompiledModel) -> list[str]:
     # (scale): a turn among them has a rotation part of about 1 / size.
     axes, weights, _ = np.linalg.svd(free[:, 3:].T, full_matrices=False)
     directions = axes[:, weights > 1e-6 / scale[3]].T
-    body = model.dofs.active[:, 0].copy()
-    body[model.rigid_nodes] = False
     found = []
     for w in directions:
         for force, moment in _load_levels(model):
-            forces = force[body]
+            # Every force counts, a force-driven tool's too: it pushes the body through its
+            # contact, and across w it may balance the moment a finite turn away.
+            forces = force
             across = float(np.abs(np.cross(forces, w)).sum())
             if across > 1e-9 * max(float(np.abs(forces).sum()), 1e-300):
                 continue  # a force across w may turn it back a finite turn away

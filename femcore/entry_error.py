@@ -37,6 +37,12 @@ class EntryError(ValueError):
         self.index = index
         self.reason = reason
 
+    def __reduce__(self):
+        # Rebuilt from its own arguments (``args`` holds the message alone): it crosses a
+        # process pool (a sweep's or a report's worker) as it was raised.
+        prefix = str(self)[: len(str(self)) - len(self.reason)]
+        return (type(self), (self.kind, self.index, self.reason, prefix))
+
 
 class EntryWarning(UserWarning):
     """A UserWarning about ``model.<ENTRY_LISTS[kind]>[index]`` (a body that starts
@@ -47,3 +53,9 @@ class EntryWarning(UserWarning):
         self.kind = kind
         self.index = index
         self.reason = reason
+
+    def __reduce__(self):
+        # Rebuilt from its own arguments (``args`` holds the message alone): it crosses a
+        # process pool (a sweep's or a report's worker) as it was raised.
+        prefix = str(self)[: len(str(self)) - len(self.reason)]
+        return (type(self), (self.kind, self.index, self.reason, prefix))

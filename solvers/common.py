@@ -61,6 +61,11 @@ class SettingError(ValueError):
         super().__init__(message)
         self.option = option
 
+    def __reduce__(self):
+        # Rebuilt from its own arguments, not ``args`` (the message alone): it crosses a
+        # process pool (a sweep's or a report's worker) as it was raised.
+        return (type(self), (self.option, str(self)))
+
 
 class DivergenceError(SolverError):
     """Non-finite values or an energy blow-up: the time step is too large for the model, a

@@ -313,7 +313,8 @@ class DynamicRelaxation:
                         masses,
                         progress,
                         increment,
-                        max(rounding, _reference_floor(compiled, frames[-1])),
+                        max(rounding, unloaded := _reference_floor(compiled, frames[-1])),
+                        unloaded,
                     )
             except (ConvergenceError, DivergenceError, Interrupted) as error:
                 if isinstance(error, Interrupted):
@@ -377,9 +378,11 @@ class DynamicRelaxation:
         progress,
         increment,
         floor: float = 0.0,
+        unloaded: float = 0.0,
     ):
         """Relax from ``state`` (left unchanged) to equilibrium at ``load_factor``; ``floor``:
-        the least force reference (``_reference_floor``).
+        the least force reference (the rounding of the internal forces and
+        ``_reference_floor``), ``unloaded`` the latter (loads below it have been taken off).
 
         Returns (the state at rest in equilibrium, iterations, residual ratio, reactions (n,3),
         reaction moments (n,3)).
@@ -441,7 +444,7 @@ class DynamicRelaxation:
                     None,
                 )
             if ok:
-                _warn_below_floor(balance.test, floor, self.tol, load_factor)
+                _warn_below_floor(balance.test, floor, self.tol, load_factor, unloaded)
                 reactions, reaction_moments = balance.reactions(state, f_int, m_int, moment)
                 rest = replace(
                     state,
@@ -669,11 +672,16 @@ def _stall_message(model: CompiledModel, increment: int, solver, load_factor: fl
     )
 
 
-def _warn_below_floor(test: Equilibrium, floor: float, tol: float, load_factor: float) -> None:
+def _warn_below_floor(
+    test: Equilibrium, floor: float, tol: float, load_factor: float, unloaded: float = 0.0
+) -> None:
     """Warn when loads that are not zero lie below the force reference's floor: the solve
-    then judges them as round-off (solvers.force_floor), accurate to tol x floor only."""
+    then judges them as round-off (solvers.force_floor), accurate to tol x floor only. Not
+    where they are below ``unloaded`` (a share of the last frame's loads, UNLOADED_SHARE):
+    a user amplitude has taken them off (sin(pi lambda) leaves 1e-16 of the load at 1), and
+    the unloaded model is what is asked."""
     loads = max(test.f_ext_norm, test.m_ext_norm / test.element_size)
-    if 0.0 < loads < floor:
+    if max(0.0, unloaded) < loads < floor:
         warnings.warn(
             f"dynamic relaxation at load factor {load_factor:.4g}: the loads ({loads:.3g} N) are "
             f"below the rounding of the internal forces ({floor:.3g} N), so the equilibrium is "

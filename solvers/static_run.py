@@ -60,13 +60,16 @@ class StaticRun:
         self.state = model.initial_state()
         self.reached = 0.0
         # The least force reference of the convergence test (solvers.convergence): 1e-300,
-        # or with user amplitudes the loads and reactions of the last converged frame, since
-        # such an amplitude may bring the loads back to zero (a load then unload), where the
-        # reference of the level alone would judge round-off against round-off. Never below
-        # the rounding of the internal forces (solvers.force_floor), where the answer carries
-        # almost no force (a prescribed rigid motion, a load of 1e-10 N).
+        # or with user amplitudes a share of the loads and reactions of the last converged
+        # frame (solvers.force_floor.unloaded_floor), since such an amplitude may bring the
+        # loads back to zero (a load then unload), where the reference of the level alone
+        # would judge round-off against round-off. Never below the rounding of the internal
+        # forces (solvers.force_floor), where the answer carries almost no force (a prescribed
+        # rigid motion, a load of 1e-10 N): from the element tangents at the start whatever
+        # tangent the solve takes (with finite differences too).
         own_parts = model.own_tangents(self.state) if solver.tangent == "element" else {}
-        self.round_off = round_off_force(model, [p for ps in own_parts.values() for p in ps])
+        rounding_parts = own_parts if own_parts else model.own_tangents(self.state)
+        self.round_off = round_off_force(model, [p for ps in rounding_parts.values() for p in ps])
         self.reference_floor = max(1e-300, self.round_off)
         # Whether the load path is in the first increment of a phase (solvers.load_path;
         # solvers/newton.py ``opens_on_ramp``).

@@ -317,3 +317,21 @@ def test_the_command_line_refuses_these_before_anything_runs(tmp_path, capsys):
     fit = ["--fit", "part.0.material.areal_density", "--out", str(out), "--quiet"]
     assert main(["identify", case, "--data", str(data), *fit]) == 2
     assert "measured.csv: not a text CSV file" in capsys.readouterr().err
+
+
+def test_the_errors_that_name_an_entry_or_a_setting_cross_a_process_pool_as_raised():
+    # pickled and read back (a sweep's or a report's worker hands its errors back so): before,
+    # unpickling raised TypeError for the missing arguments.
+    import pickle
+
+    from femcore.entry_error import EntryError, EntryWarning
+    from solvers.common import SettingError
+
+    for error in (
+        EntryError("load", 2, "no DOF", prefix="model.loads[2]: "),
+        EntryWarning("interaction", 0, "starts inside", prefix="model.interactions[0]: "),
+        SettingError("max_steps", "too many steps"),
+    ):
+        back = pickle.loads(pickle.dumps(error))
+        assert type(back) is type(error) and str(back) == str(error)
+        assert vars(back) == vars(error)

@@ -126,6 +126,15 @@ def test_an_area_on_a_mesh_not_aligned_with_the_axes_is_refused_as_its_order_zig
     assert np.all(np.diff(turned[ordered, 0]) > 0) and len(ordered) == 11
 
 
+def test_a_corrugated_line_whose_crests_turn_back_is_still_a_path():
+    # A triangle wave with 60-deg walls, a node every 1 mm along x: its steps turn back at the
+    # crests (3 of 7 inner nodes), not at most nodes as an area's order does.
+    x = np.arange(9.0)
+    z = np.sqrt(3.0) * np.minimum(x % 4, 4 - x % 4)
+    wave = np.column_stack([x, np.zeros(9), z])
+    assert order_path(wave, np.arange(9)).tolist() == list(range(9))
+
+
 # ---------------------------------------------------------------------- errors
 def test_an_absolute_bound_past_the_mesh_names_the_set_the_bound_and_the_extent():
     with pytest.raises(CaseError) as caught:

@@ -10,8 +10,9 @@ zero. A dead load's resultant does not turn with the body; its moment about a pi
 import numpy as np
 import pytest
 
-from elements import Cable, FibrousShell, MindlinShell
+from elements import Cable, FibrousShell, MindlinShell, RigidPlane
 from femcore import Mesh, Model
+from femcore.diagnostics import unbalanced_turns
 from materials import ElasticShell, presets
 from solvers import DynamicRelaxation, Static
 
@@ -83,6 +84,18 @@ def test_a_moment_about_a_hinge_that_a_force_across_it_may_balance_is_let_throug
     check_held(model.compile(), swings=True)
     with pytest.raises(ValueError, match="mechanism there, and Static cannot start"):
         check_held(model.compile(), swings=False)
+
+
+def test_a_force_driven_tool_pressing_across_the_hinge_may_balance_the_moment():
+    # A holder free along z, pushed down by 1 N onto the flap, balances a lifting moment a
+    # finite turn away: its force counts (before the mend it was dropped as another body's and
+    # DynamicRelaxation refused a model it solved before).
+    model = hinged_strip()
+    model.moment("right", (0.0, -1.0, 0.0))
+    holder = RigidPlane((0.0, 0.0, 0.5), (0.0, 0.0, -1.0), free="z", force=(0, 0, -1.0),
+                        mass=1e-6, amplitude="step")  # fmt: skip
+    model.contact(holder, penalty=100.0)
+    assert unbalanced_turns(model.compile()) == []
 
 
 def test_a_strip_hanging_from_its_edge_is_a_mechanism_static_cannot_start_from():
