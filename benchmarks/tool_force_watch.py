@@ -19,9 +19,13 @@ about 1 % or less.
 from __future__ import annotations
 
 import argparse
+import sys
 import time
+from pathlib import Path
 
 import numpy as np
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # this tree's packages
 
 
 def main() -> None:
