@@ -259,6 +259,18 @@ def curves_with_contact(model: CompiledModel, history: tuple) -> bool:
     return all(entry is None or getattr(entry, "gaps_decide", False) for entry in history[first:])
 
 
+def imposes_alone(model: CompiledModel) -> bool:
+    """Whether the first iteration of an increment with prescribed motion applies that motion
+    alone, the free unknowns held: a model with a frictional interaction that keeps no contact
+    set (the plies' friction, elements/ply_contact.py), whose converged state's tangent holds
+    every touching point stuck (docs/theory.md §6.5, "Prescribed motion against stuck
+    points"). The tools' contact, which freezes its sets, is left as it was."""
+    return any(
+        getattr(part, "friction", 0.0) > 0.0 and type(part).freeze is InteractionBlock.freeze
+        for part in model.interactions
+    )
+
+
 def _newton(
     run: StaticRun,
     state: State,
@@ -312,6 +324,7 @@ def _iterate(
     # ROUND_OFF_GATE, on models whose forces a rigid translation leaves as they are.
     floor: float | None = None
     probe = not model.interactions and run.dashpots is None
+    alone = imposes_alone(model)
     for iteration in range(1, allowed + 1):
         frames = dofs.frames(state.directors)
         if frozen:
@@ -416,6 +429,19 @@ def _iterate(
             run.info["regularised_iterations"] += 1
             if delta_free is None:
                 raise IncrementFailed(f"singular tangent stiffness: {mechanism(model)}")
+        if alone and iteration == 1 and not push and np.abs(left).max(initial=0.0) > 0.0:
+            # The tangent of the converged state holds every touching point stuck, and its
+            # linear step may take the prescribed motion up where the stick springs are softest:
+            # a pulled ply's free directors turned 2 rad for 0.5 mm. Where it turns a director
+            # past the update cap, the increment's prescribed motion is applied alone, the free
+            # unknowns held, and the return mapping at the moved state says which points slide
+            # (imposes_alone; docs/theory.md §6.5, "Prescribed motion against stuck points").
+            turns = np.zeros((model.n_nodes, N_COLUMNS))
+            turns.ravel()[index] = delta_free
+            if np.linalg.norm(turns[:, 3:], axis=1).max(initial=0.0) > watchdog.turn:
+                scale, state, forces = watchdog.step(state, frames, left.copy(), r, True)
+                run.info["imposed_alone"] += 1
+                continue
         # Steps on an indefinite tangent are turned downhill, except on the way from a kept
         # saddle: the path of saddles no push descends from is followed by plain Newton (a
         # turned step there heads off the path and finds no lower branch), and each converged

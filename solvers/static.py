@@ -236,7 +236,11 @@ class Static:
     Prescribed displacements enter each iteration consistently: the update solves
     K_ff dq_f = r_f - K_fp dq_p for the part dq_p of the prescribed motion not yet applied, so
     the first iteration of an increment moves the structure with the imposed nodes instead of
-    dragging them alone.
+    dragging them alone. Except with a frictional ply contact, where that first step, on the
+    tangent of a state whose touching points all stick, turns a director past the update cap:
+    the imposed motion is then applied alone and the return mapping there says which points
+    slide (``info["imposed_alone"]``; docs/theory.md §6.5, "Prescribed motion against stuck
+    points").
 
     Stability: every converged state gets the number of negative eigenvalues of the tangent
     K_ff last factorised on its way (that of the iterate whose update reached it, a step the

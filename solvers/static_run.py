@@ -133,6 +133,7 @@ class StaticRun:
             "limit_points": [],
             "jumps": [],
             "regularised_iterations": 0,
+            "imposed_alone": 0,
             "shifted": [],
             "chord_corrections": 0,
             "arc_chords": 0,
