@@ -18,7 +18,23 @@ ENTRY_LISTS = {
 }
 
 
-class EntryError(ValueError):
+class _AboutAnEntry(Exception):
+    """What EntryError and EntryWarning share: the entry (``kind``, ``index``), the ``reason``
+    and a message ``prefix + reason``; pickled from those (``args`` holds the message alone),
+    so that it crosses a process pool (a sweep's or a report's worker) as it was raised."""
+
+    def __init__(self, kind: str, index: int, reason: str, prefix: str = "") -> None:
+        super().__init__(f"{prefix}{reason}")
+        self.kind = kind
+        self.index = index
+        self.reason = reason
+
+    def __reduce__(self):
+        prefix = str(self)[: len(str(self)) - len(self.reason)]
+        return (type(self), (self.kind, self.index, self.reason, prefix))
+
+
+class EntryError(_AboutAnEntry, ValueError):
     """A ValueError about ``model.<ENTRY_LISTS[kind]>[index]``.
 
     Attributes
@@ -31,31 +47,7 @@ class EntryError(ValueError):
         What is wrong, without the entry's name (the message is ``prefix + reason``).
     """
 
-    def __init__(self, kind: str, index: int, reason: str, prefix: str = "") -> None:
-        super().__init__(f"{prefix}{reason}")
-        self.kind = kind
-        self.index = index
-        self.reason = reason
 
-    def __reduce__(self):
-        # Rebuilt from its own arguments (``args`` holds the message alone): it crosses a
-        # process pool (a sweep's or a report's worker) as it was raised.
-        prefix = str(self)[: len(str(self)) - len(self.reason)]
-        return (type(self), (self.kind, self.index, self.reason, prefix))
-
-
-class EntryWarning(UserWarning):
+class EntryWarning(_AboutAnEntry, UserWarning):
     """A UserWarning about ``model.<ENTRY_LISTS[kind]>[index]`` (a body that starts
     overlapping an interaction's tool); ``kind``, ``index`` and ``reason`` as EntryError's."""
-
-    def __init__(self, kind: str, index: int, reason: str, prefix: str = "") -> None:
-        super().__init__(f"{prefix}{reason}")
-        self.kind = kind
-        self.index = index
-        self.reason = reason
-
-    def __reduce__(self):
-        # Rebuilt from its own arguments (``args`` holds the message alone): it crosses a
-        # process pool (a sweep's or a report's worker) as it was raised.
-        prefix = str(self)[: len(str(self)) - len(self.reason)]
-        return (type(self), (self.kind, self.index, self.reason, prefix))
