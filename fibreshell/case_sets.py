@@ -175,14 +175,13 @@ def order_path(points: np.ndarray, ids: np.ndarray) -> np.ndarray:
     ------
     BoundsError
         When two nodes stand at one position along the axis (within 1e-6 of the mesh's
-        largest extent, the selections' default tolerance), or when, so ordered, the steps
-        from node to node turn back (by more than 90 deg) at more than half of the inner
-        nodes: the nodes are an area, not a line (a bound forgotten, ``y_min = "0%"`` without
-        ``y_max``; on a mesh not aligned with the axes no two nodes share a position, and the
-        order zigzags across the area), or a line that turns back along its longest extent (a
-        hat section), which this order cannot follow; the message says which. A line that
-        turns back at fewer of its nodes (the crests of a corrugation whose walls are steeper
-        than 45 deg) is a path.
+        largest extent, the selections' default tolerance), or when, so ordered, a step from
+        node to node turns back on the one before (by more than 90 deg): the nodes are an area,
+        not a line (a bound forgotten, ``y_min = "0%"`` without ``y_max``; on a mesh not
+        aligned with the axes no two nodes share a position, and the order zigzags across the
+        area), or a line that turns back along its longest extent (a hat section, the crests
+        of a corrugation whose walls are steeper than 45 deg: its points alone cannot tell it
+        from two rows of an area), which is given as pieces; the message says which.
     """
     chosen = points[ids]
     axis = int(np.argmax(np.ptp(chosen, axis=0)))
@@ -208,12 +207,14 @@ def order_path(points: np.ndarray, ids: np.ndarray) -> np.ndarray:
             f"{first:g}): an area, or a line that turns back along {name}; {way_out}"
         )
     # Ordered along the axis, a line's steps run on one after another; an area's zigzag
-    # across it (each step back over the one before), wherever its nodes stand along the
-    # axis. A line may turn back at some nodes (the crests of a corrugation with walls
-    # steeper than 45 deg), an area's order at most of them: refused where more than half do.
+    # across it (a step back over the one before), wherever its nodes stand along the axis:
+    # two rows at every node, more rows at two nodes of each column of the mesh (a share of
+    # the turns would let those through). A line whose crests turn back by more than 90 deg
+    # (a corrugation with walls steeper than 45 deg) cannot be told from two rows by its
+    # points alone: refused too, to be given as pieces.
     steps = np.diff(chosen[order], axis=0)
     turned = np.einsum("ij,ij->i", steps[:-1], steps[1:]) <= 0.0
-    if 2 * int(turned.sum()) > len(turned):
+    if turned.any():
         at = chosen[order][1:-1][turned][0]
         raise BoundsError(
             f"not a line: ordered along {name}, its steps from node to node turn back by more "

@@ -126,13 +126,29 @@ def test_an_area_on_a_mesh_not_aligned_with_the_axes_is_refused_as_its_order_zig
     assert np.all(np.diff(turned[ordered, 0]) > 0) and len(ordered) == 11
 
 
-def test_a_corrugated_line_whose_crests_turn_back_is_still_a_path():
-    # A triangle wave with 60-deg walls, a node every 1 mm along x: its steps turn back at the
-    # crests (3 of 7 inner nodes), not at most nodes as an area's order does.
+@pytest.mark.parametrize("rows", [3, 5])
+def test_areas_of_more_rows_on_a_turned_mesh_are_refused_too(rows):
+    # Sorted along x, a 20 x 4-cell mesh turned 2 deg runs column by column and turns back at
+    # two nodes of each column only: every such turn is refused, not a share of them (a rule
+    # of "more than half" let the whole rectangle through as a path).
+    mesh = Mesh.rectangle(100.0, 20.0, nx=20, ny=4)
+    turn = np.radians(2.0)
+    rotation = np.array([[np.cos(turn), -np.sin(turn), 0], [np.sin(turn), np.cos(turn), 0],
+                         [0, 0, 1]])  # fmt: skip
+    band = np.flatnonzero(mesh.points[:, 1] <= 5.0 * (rows - 1) + 1e-9)
+    with pytest.raises(BoundsError, match="not a line: ordered along x"):
+        order_path(mesh.points @ rotation.T, band)
+
+
+def test_a_corrugation_whose_crests_turn_back_is_given_as_pieces():
+    # A triangle wave with 60-deg walls, a node every 1 mm along x: its crests turn back by
+    # 120 deg, as two rows of an area do; refused, and each wall alone is a path.
     x = np.arange(9.0)
     z = np.sqrt(3.0) * np.minimum(x % 4, 4 - x % 4)
     wave = np.column_stack([x, np.zeros(9), z])
-    assert order_path(wave, np.arange(9)).tolist() == list(range(9))
+    with pytest.raises(BoundsError, match="turn back by more than 90 deg at 3 of its 7"):
+        order_path(wave, np.arange(9))
+    assert order_path(wave, np.arange(3)).tolist() == [0, 1, 2]
 
 
 # ---------------------------------------------------------------------- errors
