@@ -4,10 +4,10 @@ half of an explicit run (docs/theory.md §6.3, "The force-driven tools").
 A free tool (a blank holder, elements/tools.py) is a mass m on the penalty springs k of its
 contact: a step load F on it rings undamped at sqrt(k / m), its contact force swinging between
 0 and 2 F about a mean of F, and the frames and history rows sample it anywhere on that swing
-(a 0.1-g holder pressed by 100 N read 0-1 N at every 1-ms frame, ringing with a period of 0.5
-ms). KE / W does not see it (its energy is a small part of the run's work). Its inertia
-m c'' and its damping (a dashpot's c v against a drift) also take their share of F: the
-body then feels F less them.
+(a 100-g holder, 1e-4 t, pressed by 100 N read 0-1 N at every 1-ms frame, ringing with a
+period of 0.5 ms). KE / W does not see it (its energy is a small part of the run's work).
+Its inertia m c'' and its damping (a dashpot's c v against a drift) also take their share of
+F: the body then feels F less them.
 
 The watch keeps, at every step of the last half of the run (``TOOL_CHECK_FROM``), the force
 the tool presses the body with beside the force prescribed on its node (``CompiledModel.

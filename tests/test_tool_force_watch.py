@@ -106,9 +106,9 @@ def test_a_model_without_a_driven_tool_reports_none():
 
 
 def pullout(tmp_path: Path, damping: float | None, duration: float) -> tuple[dict, list[str]]:
-    """cases/holder_pullout.toml run explicit over ``duration`` (s) with a 0.1-g holder (its
-    contact period about 0.5 ms), the holder's contact ``damping`` (None: none): the summary
-    and the warnings' messages."""
+    """cases/holder_pullout.toml run explicit over ``duration`` (s) with a 100-g holder, 1e-4
+    t (its contact period about 0.5 ms), the holder's contact ``damping`` (None: none): the
+    summary and the warnings' messages."""
     text = (Path(__file__).parents[1] / "cases" / "holder_pullout.toml").read_text()
     holder = "mass = 1e-4\n" + ("" if damping is None else f"damping = {damping}\n")
     text = text.replace('amplitude = "step"\n', 'amplitude = "step"\n' + holder)
