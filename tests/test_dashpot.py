@@ -18,15 +18,18 @@ SIDE, FORCE, MASS, PENALTY = 20.0, 1.0, 1e-3, 100.0  # mm, N, t, N/mm per node
 DURATION = 0.05  # s: about 7 periods of the holder on its 9 springs (6.6 ms)
 
 
-def _holder_on_a_held_plate(damping: float | None, follow: float | None = None) -> Model:
-    """A 2 x 2-cell plate held still, a 1-kg holder 0.01 mm above it pushed down by 1 N at
-    once, its 9 contact springs of 100 N/mm; a dashpot of ``damping`` on the holder's node."""
+def holder_on_a_held_plate(
+    damping: float | None, follow: float | None = None, gap: float = 0.01
+) -> Model:
+    """A 2 x 2-cell plate held still, a 1-kg holder ``gap`` mm above it pushed down by 1 N at
+    once, its 9 contact springs of 100 N/mm; a dashpot of ``damping`` on the holder's node
+    (tests/test_tool_force_watch.py lands it: gap 0)."""
     flat = Mesh.rectangle(SIDE, SIDE, nx=2, ny=2)
     model = Model(flat.with_points(flat.points + [0.0, 0.0, 0.5]))
     model.add(MindlinShell(ElasticShell(E=1000.0, nu=0.3, thickness=1.0, density=1e-9)))
     model.fix(lambda x, y, z: np.ones_like(x, dtype=bool))
     holder = RigidPlane(
-        (0.0, 0.0, 1.01), (0.0, 0.0, -1.0), free="z", force=(0, 0, -FORCE), mass=MASS,
+        (0.0, 0.0, 1.0 + gap), (0.0, 0.0, -1.0), free="z", force=(0, 0, -FORCE), mass=MASS,
         amplitude="step",
     )  # fmt: skip
     model.contact(holder, penalty=PENALTY)
@@ -49,11 +52,11 @@ def test_a_critically_damped_holder_carries_its_force_over_the_last_tenth(follow
     the mean velocity of the fall lingers after the landing: 2.5 % and 17 % off)."""
     c = critical_damping(MASS, 9 * PENALTY)
     damped = CentralDifference(duration=DURATION, dt=1e-4, kinetic_bound=None).solve(
-        _holder_on_a_held_plate(c, follow)
+        holder_on_a_held_plate(c, follow)
     )
     assert _last_tenth_mean_force(damped) == pytest.approx(FORCE, rel=0.05)
     ringing = CentralDifference(duration=DURATION, dt=1e-4, kinetic_bound=None).solve(
-        _holder_on_a_held_plate(None)
+        holder_on_a_held_plate(None)
     )
     assert abs(_last_tenth_mean_force(ringing) - FORCE) > 0.05 * FORCE
 
@@ -64,7 +67,7 @@ def test_the_dashpot_reports_the_energy_it_takes_out():
     column of the energy records; the internal column is what the springs hold, the work of
     every internal force less that dissipation), to 1e-3 of the work."""
     c = critical_damping(MASS, 9 * PENALTY)
-    run = CentralDifference(duration=DURATION, dt=1e-4).solve(_holder_on_a_held_plate(c))
+    run = CentralDifference(duration=DURATION, dt=1e-4).solve(holder_on_a_held_plate(c))
     e = run.energies
     work = FORCE * (0.01 + FORCE / (9 * PENALTY))
     assert e["external_work"][-1] == pytest.approx(work, rel=1e-6)
@@ -80,7 +83,7 @@ def test_a_following_dashpot_lets_a_steady_drift_through():
     c, tau, v = 2.0, 0.01, 10.0
     forces = []
     for follow in (None, tau):
-        compiled = _holder_on_a_held_plate(c, follow).compile()
+        compiled = holder_on_a_held_plate(c, follow).compile()
         block = compiled.interactions[-1]
         node = int(block.nodes[0])
         history = block.initial_history()

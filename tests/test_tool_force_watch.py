@@ -17,15 +17,15 @@ import numpy as np
 import pytest
 
 from elements import MindlinShell, RigidPlane
-from elements.dashpot import Dashpot, critical_damping
+from elements.dashpot import critical_damping
 from femcore import Mesh, Model
 from fibreshell.case import load_case
 from fibreshell.run import run_case
 from materials import ElasticShell
 from solvers import CentralDifference
 from solvers.tool_force_watch import TOOL_FORCE_SHARE
+from tests.test_dashpot import FORCE, MASS, PENALTY, holder_on_a_held_plate
 
-FORCE, MASS, PENALTY = 1.0, 1e-3, 100.0  # N, t, N/mm per node
 STIFFNESS = 9 * PENALTY  # the 3 x 3 nodes of the plate under the holder
 OMEGA = np.sqrt(STIFFNESS / MASS)  # rad/s: a period of 6.6 ms
 DURATION, DT = 0.05, 1e-4  # s: omega dt = 0.095, 3.8 periods judged
@@ -33,21 +33,10 @@ RINGING = "force-driven tool does not press the body"
 
 
 def landed_holder(dashpot: bool = False) -> Model:
-    """A 20 x 20 mm plate held still, a holder resting on its top face (no gap) pushed down
-    by FORCE at once (amplitude step); with ``dashpot``, a critical dashpot on its node."""
-    flat = Mesh.rectangle(20.0, 20.0, nx=2, ny=2)
-    model = Model(flat.with_points(flat.points + [0.0, 0.0, 0.5]))
-    model.add(MindlinShell(ElasticShell(E=1000.0, nu=0.3, thickness=1.0, density=1e-9)))
-    model.fix(lambda x, y, z: np.ones_like(x, dtype=bool))
-    holder = RigidPlane(
-        (0.0, 0.0, 1.0), (0.0, 0.0, -1.0), free="z", force=(0, 0, -FORCE), mass=MASS,
-        amplitude="step",
-    )  # fmt: skip
-    model.contact(holder, penalty=PENALTY)
-    if dashpot:
-        node = model.rigid_nodes[0].node
-        model.interact(Dashpot(node, critical_damping(MASS, STIFFNESS)))
-    return model
+    """The plate and holder of tests/test_dashpot.py (FORCE, MASS and PENALTY the same), the
+    holder resting on the plate's top face (no gap), pushed down by FORCE at once; with
+    ``dashpot``, a critical dashpot on its node."""
+    return holder_on_a_held_plate(critical_damping(MASS, STIFFNESS) if dashpot else None, gap=0.0)
 
 
 def ringing_window() -> tuple[float, float]:
