@@ -464,7 +464,7 @@ class CompiledModel(CompiledTangent):
         force = np.zeros((self.n_nodes, 3))
         moment = np.zeros((self.n_nodes, 3))
         for kind, amplitude, values in self._load_terms:
-            if user is not None and (amplitude.name == "user") != user:
+            if not _taken(amplitude, user):
                 continue
             factor = evaluate(amplitude, tau, quasi_static)
             if kind == "force":
@@ -472,7 +472,7 @@ class CompiledModel(CompiledTangent):
             else:
                 moment += factor * values
         for (amplitude, _), weight in zip(self._gravity_terms, self._gravity_forces):
-            if user is not None and (amplitude.name == "user") != user:
+            if not _taken(amplitude, user):
                 continue
             force += evaluate(amplitude, tau, quasi_static) * weight
         if self._unloaded.size:
@@ -486,7 +486,7 @@ class CompiledModel(CompiledTangent):
         ``user`` as in ``external_load``."""
         displacement = np.zeros((self.n_nodes, 3))
         for amplitude, values in self._prescribed_terms:
-            if user is not None and (amplitude.name == "user") != user:
+            if not _taken(amplitude, user):
                 continue
             displacement += evaluate(amplitude, tau, quasi_static) * values
         return displacement
@@ -621,3 +621,9 @@ def _takes_step(kind: Any) -> bool:
     if kind not in _TAKES_STEP:
         _TAKES_STEP[kind] = _takes_positional(kind.springs_at, 3, besides=("mass",))
     return _TAKES_STEP[kind]
+
+
+def _taken(amplitude: Amplitude, user: bool | None) -> bool:
+    """Whether a load of ``amplitude`` is among those asked for: every one (``user`` None),
+    those with a user callable (True) or those with a named amplitude (False)."""
+    return user is None or (amplitude.name == "user") == user
