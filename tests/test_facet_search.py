@@ -265,13 +265,33 @@ def test_a_short_list_gives_the_scans_answer_to_the_last_bit():
     assert wrong > 0  # the test sees a list that leaves the nearest out
 
 
+def _kept_and_listed(listed, x):
+    """(s,) bool each: the points ``x`` the tool ``listed`` answers from their kept facet,
+    and those it answers from their short list (the others are scanned)."""
+    kept = (listed._kept[0] >= 0) & (np.linalg.norm(x - listed._kept[1], axis=1) < listed._kept[2])
+    short = ~kept & (np.linalg.norm(x - listed._near[0], axis=1) < listed._near[1])
+    return kept, short
+
+
+def _answers_as_without_short_lists(monkeypatch, listed, plain, x):
+    """``listed``'s distances and normals at ``x`` with the short lists (SHORT_LISTS) are
+    ``plain``'s without them, to the last bit."""
+    from elements import rigid_surface
+
+    monkeypatch.setattr(rigid_surface, "SHORT_LISTS", True)
+    got = listed.distance(x)
+    monkeypatch.setattr(rigid_surface, "SHORT_LISTS", False)
+    expected = plain.distance(x)
+    for a, b in zip(got, expected):
+        np.testing.assert_array_equal(a, b)
+
+
 def test_a_meshed_tool_answers_the_same_with_and_without_the_short_lists(monkeypatch):
     """A cloud of points creeping over the bumpy sheet for 40 calls (0.004 mm a call), a few
     jumping 2 mm (past the candidate lists' margin: their lists searched again, their short
     lists dropped): RigidSurface.distance with the short lists (SHORT_LISTS) gives the signed
     distances and normals of the same tool without them, to the last bit, the lists
     answering some of the points."""
-    from elements import rigid_surface
 
     mesh = bumpy_surface()
     listed, plain = RigidSurface(mesh), RigidSurface(mesh)
@@ -284,20 +304,8 @@ def test_a_meshed_tool_answers_the_same_with_and_without_the_short_lists(monkeyp
         jump = rng.random(len(x)) < 0.03
         x[jump] += rng.normal(scale=2.0, size=(jump.sum(), 3))
         if listed._near is not None:
-            kept = (listed._kept[0] >= 0) & (
-                np.linalg.norm(x - listed._kept[1], axis=1) < listed._kept[2]
-            )
-            answered += int(
-                np.count_nonzero(
-                    ~kept & (np.linalg.norm(x - listed._near[0], axis=1) < listed._near[1])
-                )
-            )
-        monkeypatch.setattr(rigid_surface, "SHORT_LISTS", True)
-        got = listed.distance(x)
-        monkeypatch.setattr(rigid_surface, "SHORT_LISTS", False)
-        expected = plain.distance(x)
-        for a, b in zip(got, expected):
-            np.testing.assert_array_equal(a, b)
+            answered += int(np.count_nonzero(_kept_and_listed(listed, x)[1]))
+        _answers_as_without_short_lists(monkeypatch, listed, plain, x)
     assert answered > 200
 
 
@@ -336,7 +344,6 @@ def test_a_point_sliding_round_a_vertex_of_six_facets_is_answered_from_its_short
     back to a scan at every call, as the holder's nodes sliding over its vertices were sent
     in the two-ply fibrous hemisphere (benchmarks/ply_step.py). The answers stay those of
     the tool without the short lists, to the last bit."""
-    from elements import rigid_surface
 
     sheet = Mesh.rectangle(10.0, 10.0, 10, 10)
     listed, plain = RigidSurface(sheet), RigidSurface(sheet)
@@ -351,15 +358,7 @@ def test_a_point_sliding_round_a_vertex_of_six_facets_is_answered_from_its_short
             ]
         )
         if call > 0:
-            kept = (listed._kept[0] >= 0) & (
-                np.linalg.norm(x - listed._kept[1], axis=1) < listed._kept[2]
-            )
-            short = ~kept & (np.linalg.norm(x - listed._near[0], axis=1) < listed._near[1])
+            kept, short = _kept_and_listed(listed, x)
             scans += int(np.count_nonzero(~kept & ~short))
-        monkeypatch.setattr(rigid_surface, "SHORT_LISTS", True)
-        got = listed.distance(x)
-        monkeypatch.setattr(rigid_surface, "SHORT_LISTS", False)
-        expected = plain.distance(x)
-        for a, b in zip(got, expected):
-            np.testing.assert_array_equal(a, b)
+        _answers_as_without_short_lists(monkeypatch, listed, plain, x)
     assert scans == 0
