@@ -94,11 +94,13 @@ class GershgorinMasses(RelaxationMasses):
     fictitious = True
     every_restart = False
 
-    def __init__(self, model: CompiledModel, safety: float):
+    def __init__(self, model: CompiledModel, safety: float, own: dict | None = None):
         super().__init__()
         self.model = model
         self.scale = 1.0 / (4.0 * safety**2)
-        own = model.own_tangents(model.initial_state())
+        # ``own``: the blocks' own tangents at the start, where the caller has made them
+        if own is None:
+            own = model.own_tangents(model.initial_state())
         self.own = list(own)
         self.others = [i for i in range(len(model.parts)) if i not in own]
         # The colouring loops over the nodes: once per solve.

@@ -249,8 +249,13 @@ class DynamicRelaxation:
                 state, positions=positions, directors=directors, load_factor=first, time=first
             )
             frames.append(make_frame(compiled, state))
+        # The element tangents at the start, made once: the Gershgorin masses' blocks and the
+        # force reference's floor, the rounding of the internal forces (solvers.force_floor:
+        # a prescribed rigid motion has no other reference).
+        own = compiled.own_tangents(compiled.initial_state())
+        rounding = round_off_force(compiled, [part for parts in own.values() for part in parts])
         masses: RelaxationMasses = (
-            GershgorinMasses(compiled, self.safety)
+            GershgorinMasses(compiled, self.safety, own)
             if self.masses == "gershgorin"
             else PhysicalMasses(compiled, self.safety)
         )
@@ -276,7 +281,7 @@ class DynamicRelaxation:
         with ProgressLine(resolve_progress(self.progress), "dynamic relaxation") as progress:
             return self._increments(
                 compiled, state, frames, first, done, iterations, residuals, masses, progress,
-                started, saved_at, signature,
+                started, saved_at, signature, rounding,
             )  # fmt: skip
 
     def _increments(
@@ -293,12 +298,10 @@ class DynamicRelaxation:
         started: float,
         saved_at,
         signature,
+        rounding: float,
     ) -> Result:
-        """Relax the increments after the ``done`` ones of ``solve``, saving each."""
-        # The force reference never below the rounding of the internal forces
-        # (solvers.force_floor): a prescribed rigid motion has no other.
-        own = compiled.own_tangents(compiled.initial_state())
-        rounding = round_off_force(compiled, [part for parts in own.values() for part in parts])
+        """Relax the increments after the ``done`` ones of ``solve``, saving each; the force
+        reference never below ``rounding`` (N, solvers.force_floor)."""
         for increment in range(done + 1, self.increments + 1):
             load_factor = first + (1.0 - first) * increment / self.increments
             state = replace(state, load_factor=load_factor, time=load_factor)
