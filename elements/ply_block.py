@@ -43,6 +43,7 @@ from elements.ply_projection import (
     penalty_law,
 )
 from elements.ply_search import FacingSearch
+from elements.ply_start import check_ply_start
 from elements.ply_topology import FaceTopology
 from elements.ply_wedge import WedgeCuts
 from femcore.assembly import CellTangent, TangentPart
@@ -232,6 +233,12 @@ class PlyContactBlock(InteractionBlock):
         # the next loads take (elements/ply_friction_kernels.py ``updated_history``)
         self._next_sliding: tuple | None = None
         self._held_at: tuple | None = None  # the last facing held by sides (ply_sides.py)
+
+    def check_start(self) -> None:
+        """Refuse plies that start through each other, report a visible overlap
+        (elements/ply_start.py); called once when the model is compiled."""
+        size = float(np.ptp(self._reference.positions, axis=0).max(initial=0.0)) or 1.0
+        check_ply_start(self, self.facing(self._reference), 1e-9 * size)
 
     def _point_stiffness(self) -> np.ndarray:
         return np.sum(self._share * self.node_stiffness[self._corner_rows], axis=1)

@@ -164,14 +164,17 @@ def folded_plies(
         return model
 
     # the low node's contact point and the valley's edge line (from its end at (2, 2)), on
-    # the offset faces of the reference
-    model = built(np.zeros(3))
+    # the offset faces of the reference; measured with the upper ply lifted clear of the
+    # lower one (a ridge's faces reach into the unlifted one, which the start check refuses)
+    lift = np.array([0.0, 0.0, 2.0 + abs(dip)])
+    model = built(lift)
     block = model.compile().interactions[0]
     faces, corners = block._faces(model.compile().initial_state())
     low = int(np.flatnonzero(block.above == len(points))[0])
     at = np.flatnonzero(np.all(np.isclose(points[lower.triangles], [2.0, 2.0, -dip]), axis=2))
     edge = corners.reshape(-1, 3)[at[0]]
-    return built(edge - faces[low] + np.array([0.0, 0.0, gap]) + [0.0, 2.3 - edge[1], 0.0])
+    place = edge - (faces[low] - lift)
+    return built(place + np.array([0.0, 0.0, gap]) + [0.0, 2.3 - edge[1], 0.0])
 
 
 def stepped_history(model: Model, way: np.ndarray, steps: int) -> tuple[PlyContactBlock, Any]:
