@@ -158,9 +158,14 @@ def make_frame(
     state: State,
     reactions: np.ndarray | None = None,
     reaction_moments: np.ndarray | None = None,
+    balanced: State | None = None,
 ) -> Frame:
-    """Snapshot of a state (arrays copied) with reactions and the elements' output fields."""
+    """Snapshot of a state (arrays copied) with reactions and the elements' output fields.
+    ``balanced``: the state whose forces the solver balanced, where the tools' forces are
+    taken (Static: the converged state before the commit updated its history; ``state``
+    itself when None)."""
     n = model.n_nodes
+    balanced = state if balanced is None else balanced
     return Frame(
         time=float(state.time),
         load_factor=float(state.load_factor),
@@ -170,7 +175,7 @@ def make_frame(
         reactions=np.zeros((n, 3)) if reactions is None else reactions.copy(),
         reaction_moments=np.zeros((n, 3)) if reaction_moments is None else reaction_moments.copy(),
         fields=model.fields(state),
-        tool_forces=model.tool_forces(state),
+        tool_forces=model.tool_forces(balanced),
         tool_displacements=model.tool_displacements(state),
     )
 
