@@ -79,6 +79,10 @@ def test_a_pull_gives_the_tension_law_in_both_kinematics(element):
     pull = result.reactions[mesh.nodes("right"), 0].sum()
     expected = width * float(law.value(np.log(stretch))) / stretch
     assert pull == pytest.approx(expected, rel=1e-8)
+    # the membrane_force field reports T itself, lambda times the pull per reference width
+    # (README, "Output fields"; docs/theory.md §2.3)
+    warp = np.asarray(result.field("membrane_force"))[:, 0]
+    assert warp == pytest.approx(np.full(len(warp), stretch * expected / width), rel=1e-7)
 
 
 def test_a_shear_takes_the_shear_law_and_its_angle():
