@@ -11,7 +11,8 @@ A Mindlin triangle's kinematics give, per cell, ten section measures ``y`` (m, 1
 Carried to the fibre frame of the cell (warp a, weft b = n x a in the reference) by constant
 rows, they give the quantities the fabric's laws take, the same ones the fibrous shell gives its
 laws: the log fibre strains eps = log(lambda) with lambda^2 = 1 + 2 E_aa, the shear angle
-gamma = asin(2 E_ab / (lambda_a lambda_b)) (Bai Eq. 21 between fibres that start orthogonal),
+gamma = asin(2 E_ab / (lambda_a lambda_b)) (pi/2 less the warp-weft angle, Bai Fig. 4, between
+fibres that start orthogonal),
 the curvatures chi_aa = K_aa / (h/2), chi_bb, and the engineering twist 2 chi_ab. The strain
 energy of the cell is
 

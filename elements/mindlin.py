@@ -350,11 +350,6 @@ class MindlinShellBlock(ElementBlock):
         """T (m, P, Z, 5, 5): covariant to lamina-frame engineering strains at each point."""
         return self._tables()[1]
 
-    @property
-    def point_weight(self) -> np.ndarray:
-        """w det J (m, P, Z), mm^3: each point's share of the volume."""
-        return self._tables()[0]
-
     def _tables(self) -> tuple[np.ndarray, np.ndarray]:
         """(point weights (m, P, Z), transformations T (m, P, Z, 5, 5)), built once."""
         if self._point_tables is None:

@@ -29,7 +29,7 @@ directors turned by the finite rotation psi (Rodrigues, so |V| = 1 exactly).
 
 from __future__ import annotations
 
-from collections.abc import Iterable, Sequence
+from collections.abc import Iterable
 from dataclasses import replace
 
 import numpy as np
@@ -46,7 +46,6 @@ __all__ = [
     "Frames",
     "dof_columns",
     "dof_names",
-    "node_dof_mask",
 ]
 
 DOF_NAMES: tuple[str, ...] = ("ux", "uy", "uz", "alpha", "beta")
@@ -229,10 +228,3 @@ class DofManager:
 def dof_names(row: np.ndarray) -> tuple[str, ...]:
     """The DOF names of the set entries of a (5,) bool row, e.g. ('ux', 'uy', 'uz')."""
     return tuple(name for name, flag in zip(DOF_NAMES, row) if flag)
-
-
-def node_dof_mask(n_nodes: int, nodes: Sequence[int] | np.ndarray, names) -> np.ndarray:
-    """(n_nodes, 5) bool mask with the given DOF names set at the given nodes."""
-    mask = np.zeros((n_nodes, len(DOF_NAMES)), dtype=bool)
-    mask[np.ix_(np.asarray(nodes, dtype=np.int64), dof_columns(names))] = True
-    return mask

@@ -27,7 +27,6 @@ __all__ = [
     "Topology",
     "build_topology",
     "check_duplicate_nodes",
-    "check_manifold",
     "check_orientation",
     "check_triangles",
     "check_zero_area",
@@ -309,22 +308,6 @@ def _raise_if_non_manifold(
 # --------------------------------------------------------------------------------------------
 # Checks
 # --------------------------------------------------------------------------------------------
-
-
-def check_manifold(triangles: ArrayLike) -> None:
-    """Check that no edge is shared by more than two triangles.
-
-    Parameters
-    ----------
-    triangles : array_like of int, shape (m, 3)
-        Node ids per triangle.
-
-    Raises
-    ------
-    ValueError
-        A non-manifold edge (naming its nodes and triangles) or invalid connectivity.
-    """
-    build_topology(triangles)
 
 
 def check_orientation(triangles: ArrayLike) -> None:

@@ -60,11 +60,8 @@ __all__ = [
     "element_names",
     "element_type",
     "material_factory",
-    "material_names",
     "register_element",
     "register_material",
-    "unregister_element",
-    "unregister_material",
 ]
 
 ELEMENT_GROUP = "fibreshell.elements"
@@ -120,10 +117,6 @@ class Registry:
                 f"pass replace=True to replace it"
             )
         self.entries[name] = value
-
-    def unregister(self, name: str) -> None:
-        """Forget ``name`` (KeyError if it is not registered)."""
-        del self.entries[name]
 
     def get(self, name: str) -> Any:
         """The entry of ``name``, loading the entry point of that name if no entry has it.
@@ -232,16 +225,6 @@ def register_material(name: str, factory: Callable[..., Any], replace: bool = Fa
     MATERIALS.register(name, factory, replace)
 
 
-def unregister_element(name: str) -> None:
-    """Forget the element type registered as ``name`` (KeyError if none is)."""
-    ELEMENTS.unregister(name)
-
-
-def unregister_material(name: str) -> None:
-    """Forget the material registered as ``name`` (KeyError if none is)."""
-    MATERIALS.unregister(name)
-
-
 def element_type(name: str) -> type[ElementType]:
     """The element type named ``name``, from an entry point if none is registered by that
     name; ValueError naming the known names otherwise."""
@@ -257,8 +240,3 @@ def material_factory(name: str) -> Callable[..., Any]:
 def element_names() -> list[str]:
     """Every element name a case file may use (registered, then entry points)."""
     return ELEMENTS.names()
-
-
-def material_names() -> list[str]:
-    """Every preset name a case file may use (registered, then entry points)."""
-    return MATERIALS.names()

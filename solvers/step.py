@@ -108,16 +108,6 @@ class Step:
         return self.energy[0]
 
     @property
-    def internal_work(self) -> float:
-        """The internal work of the step, N mm."""
-        return self.energy[1]
-
-    @property
-    def damping_work(self) -> float:
-        """The work of the damping over the step, N mm."""
-        return self.energy[2]
-
-    @property
     def kinetic_energy(self) -> float:
         """1/2 v.M v + 1/2 omega.I omega at t + dt/2, N mm."""
         return self.energy[3]

@@ -1,16 +1,16 @@
-"""Rotation-free bending from the neighbouring elements (Bai Eq. 34-37; docs/theory.md §4), the
+"""Rotation-free bending from the neighbouring elements (Bai Eq. 20, 34-37; docs/theory.md §4), the
 numpy reference of the compiled loops of kernels.py and geometry_kernels.py, and its stiffness.
 
 The warp and weft curvatures of each element come from the fold angles theta_s with its three
 neighbours (Eq. 35): chi_a = -sum_s c_as (theta_s - theta_s0), c_as = 2 (g_a . n^c_s)^2 /
 (h_s + h_s'), the heights of the two cells over their common side; on a clamped side the
-neighbour is the wall of the reference plane (§4.5). The virtual work (Eq. 34, 37) is
+neighbour is the wall of the reference plane (§4.5). The virtual work (Eq. 20) is
 
     delta W_B = A0 sum_alpha M_alpha(chi_alpha) delta chi_alpha,
 
-and since d theta_s/dx has the share D[s, k] n on each element's own nodes (Eq. 36), every
-element scatters to its own three nodes only, with each side's moment summed over its two
-elements.
+with delta chi_alpha = B delta u (Eq. 34) and the nodal forces of Eq. 37; since d theta_s/dx
+has the share D[s, k] n on each element's own nodes (Eq. 36), every element scatters to its
+own three nodes only, with each side's moment summed over its two elements.
 """
 
 from __future__ import annotations

@@ -1,9 +1,9 @@
 """FibrousShellBlock: the FibrousShell bound to the triangles of a mesh. It holds the tables
 fixed at bind (fibre frame, neighbours, reference geometry, side tables and wall normals of
 the supports) and answers the element protocol by the functions of the package: geometry.py
-(normals, thickness along the directors), membrane.py (tension and shear, Eq. 21-33),
-bending.py (rotation-free bending, Eq. 34-37), tangent.py (the stiffness), supports.py (the
-clamps), and kernels.py (the same forces and energy by compiled loops).
+(normals, thickness along the directors), membrane.py (tension and shear, Eq. 19, 21,
+24-33), bending.py (rotation-free bending, Eq. 20, 34-37), tangent.py (the stiffness),
+supports.py (the clamps), and kernels.py (the same forces and energy by compiled loops).
 """
 
 from __future__ import annotations

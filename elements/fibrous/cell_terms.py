@@ -87,7 +87,7 @@ def corner_frame(frame, directors, node, nodal, nx, ny, nz, thickness, guard):
 
 @serial
 def corner_levers(h0, v0x, v0y, v0z, h1, v1x, v1y, v1z, h2, v2x, v2y, v2z):
-    """The levers l_a = (h_m^a V_a - h_m^0 V_0) / 2 of a cell's fibre vectors (Eq. 8-9:
+    """The levers l_a = (h_m^a V_a - h_m^0 V_0) / 2 of a cell's fibre vectors (Eq. 5, 8-9:
     x_k^f = x_k + zeta_f / 2 h_m^k V_k, so g_a = x_a^f - x_0^f = r_a + zeta_f l_a with
     r_a = x_a - x_0) from the corners' h_m and V (``corner_frame``): (l1x, l1y, l1z, l2x,
     l2y, l2z), mm."""
@@ -126,7 +126,7 @@ def level_strains(
     reference1, reference2, sign, reference_shear,
 ):  # fmt: skip
     """The fibre vectors, log strains and shear angle of one level zeta_f = ``z`` of a cell
-    (membrane.py ``strains``; Eq. 8, 21): g_a = r_a + z l_a (r_a the edges 0 -> 1, 0 -> 2,
+    (membrane.py ``strains``; Eq. 8, 26, Fig. 4): g_a = r_a + z l_a (r_a the edges 0 -> 1, 0 -> 2,
     l_a of ``corner_levers``), the log strain of the fibre length l_a (|g_a|, or with
     ``nodal`` normals |P g_a|, P = I - n n^T with n the cell's unit normal, docs/theory.md
     §2.2) against the reference length L_a (``reference1``, ``reference2``), and gamma =

@@ -1,4 +1,4 @@
-"""The fold angles followed through a flat fold (docs/theory.md §4.1, "The fold's branch").
+"""The fold angles followed through a flat fold (docs/theory.md §4.2, "The fold's branch").
 
 A side's fold angle theta_s = atan2(-n' . n^c_s, n . n') (bending.py ``geometry``) lies on the
 principal branch (-pi, pi]: two cells folded onto each other and a little further read -(2 pi

@@ -1,13 +1,13 @@
-"""Tension and in-plane shear of the fibres at the levels through the thickness (Bai Eq. 21,
-24-33; docs/theory.md §2, §3), the numpy reference of the compiled loops of kernels.py.
+"""Tension and in-plane shear of the fibres at the levels through the thickness (Bai Eq. 19,
+21, 24-33; docs/theory.md §2, §3), the numpy reference of the compiled loops of kernels.py.
 
 At each level zeta_f the fibre vectors g_1, g_2 of geometry.py (Eq. 8) give the log strains
-of the warp and weft and the shear angle gamma = pi/2 - angle(g_1, g_2) (Eq. 21). The virtual
-work of the tension is (Eq. 24)
+of the warp and weft (whose variation is Eq. 26) and the shear angle gamma = pi/2 -
+angle(g_1, g_2) (the angle of Bai Fig. 4). The virtual work of the tension is (Eq. 19)
 
     delta W_T = A0 sum_f w_f sum_alpha T_alpha(eps_alpha) delta eps_alpha,
 
-T per unit width from the fabric's laws, and that of the shear (Eq. 30-33)
+T per unit width from the fabric's laws, and that of the shear (Eq. 21)
 
     delta W_S = A0 sum_f w_f M_s(gamma) delta gamma.
 
@@ -47,7 +47,8 @@ __all__ = [
 
 
 def shear_angle(g1: np.ndarray, g2: np.ndarray) -> np.ndarray:
-    """gamma = pi/2 - angle(g1, g2) (Eq. 21), rad; > 0 when the warp-weft angle closes."""
+    """gamma = pi/2 - angle(g1, g2) (Bai Fig. 4, the gamma of Eq. 21), rad; > 0 when the
+    warp-weft angle closes."""
     c = row_dot(g1, g2) / (row_norm(g1) * row_norm(g2))
     return np.arcsin(np.clip(c, -1.0, 1.0))
 

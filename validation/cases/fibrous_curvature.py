@@ -1,8 +1,8 @@
 """Curvature patch test of the rotation-free fibrous bending: quadratic surfaces are exact.
 
-Source: closed-form curvature of imposed surfaces (docs/theory.md §4.2; the rotation-free bending of
-Bai et al. 2020, Eqs. 29-37, with the clamped-edge option of docs/theory.md §4.5). A flat sheet is
-lifted to z = epsilon f(x, y) with epsilon = 1e-6 (so that the curvature is linear in the
+Source: closed-form curvature of imposed surfaces (docs/theory.md §4.2; the rotation-free bending
+of Bai et al. 2020, Eqs. 20, 34-37, with the clamped-edge option of docs/theory.md §4.5). A flat
+sheet is lifted to z = epsilon f(x, y) with epsilon = 1e-6 (so that the curvature is linear in the
 lift) and the warp and weft curvatures of every cell are read from its cell fields
 (CompiledModel.fields, from FibrousShell's cell_fields); the interior cells and those at the
 clamped wall from elements.fibrous.side_tables;
