@@ -79,6 +79,11 @@ stall; the later increments freeze and predict their sets from the state it reac
 Stalled attempts (``Static(stall_iterations=N)``, off by default; ``stalled``): an attempt
 whose residual ratio stayed above STALLED_RATIO over its last N iterations is cut at once.
 
+Prescribed motion against stuck points (``imposes_alone``): with the plies' friction, the
+first iteration of an increment applies its prescribed motion alone, the free unknowns held,
+where the first step turns a director past the update cap, and on a second attempt where the
+first attempt with the coupled step fails (``_newton``; docs/theory.md §6.5).
+
 Increments sized by their first step (``Static(first_turn=theta)``, off by default;
 ``StepTooLong``): with ``newton(turn_limit=theta)`` an attempt whose first Newton step turns a
 director by more than theta stops before the update, and the load path (solvers.load_path) cuts
@@ -280,13 +285,47 @@ def _newton(
     turn_limit: float | None = None,
 ):
     """``newton`` with the contact sets frozen or not; a failure carries the attempt's
-    iterations and residual ratios."""
+    iterations and residual ratios. In a model whose prescribed motion may be applied alone
+    (``imposes_alone``), an attempt whose first step took that motion with the free unknowns
+    and that fails is tried once more from ``state`` with the motion applied alone at its
+    first iteration, before the increment is cut (``info["imposed_alone_retries"]``; the
+    iterations and ratios of both attempts are counted; docs/theory.md §6.5, "Prescribed
+    motion against stuck points")."""
     history: list[float] = []
+    applied_alone = run.info["imposed_alone"]
     try:
         return _iterate(run, state, load_factor, max_iterations, frozen, history, turn_limit)
+    except StepTooLong as long:
+        long.iterations, long.history = 0, history
+        raise
     except IncrementFailed as failure:
         failure.iterations, failure.history = max(len(history) - 1, 0), history
+        # The retry only where the first attempt's first step was not already the motion
+        # alone (then the retry would repeat it bit for bit) and the increment moves
+        # prescribed unknowns (without, ``_iterate`` has nothing to apply alone).
+        if run.info["imposed_alone"] != applied_alone or not imposes_alone(run.model):
+            raise
+        if not _moves_prescribed(run, state, load_factor):
+            raise
+        failed = failure
+    run.info["imposed_alone_retries"] += 1
+    again: list[float] = []
+    try:
+        converged, count, ratio, _ = _iterate(
+            run, state, load_factor, max_iterations, frozen, again, turn_limit, True
+        )
+    except IncrementFailed as failure:
+        failure.iterations = failed.iterations + max(len(again) - 1, 0)
+        failure.history = history + again
         raise
+    return converged, failed.iterations + count, ratio, history + again
+
+
+def _moves_prescribed(run: StaticRun, state: State, load_factor: float) -> bool:
+    """Whether the increment from ``state`` to ``load_factor`` moves a prescribed unknown."""
+    moved = replace(state, load_factor=load_factor, time=load_factor)
+    left = run.equilibrium(load_factor).remaining(moved)
+    return bool(np.abs(left).max(initial=0.0) > 0.0)
 
 
 def _iterate(
@@ -297,8 +336,11 @@ def _iterate(
     frozen: bool,
     history: list[float],
     turn_limit: float | None = None,
+    alone_first: bool = False,
 ):
-    """The Newton iterations of ``newton``; ``history`` receives the residual ratios."""
+    """The Newton iterations of ``newton``; ``history`` receives the residual ratios.
+    ``alone_first``: the increment's prescribed motion applied alone at the first iteration
+    whatever its first step turns (``_newton``'s retry)."""
     solver = run.solver
     model = run.model
     dofs = model.dofs
@@ -438,7 +480,8 @@ def _iterate(
             # (imposes_alone; docs/theory.md §6.5, "Prescribed motion against stuck points").
             turns = np.zeros((model.n_nodes, N_COLUMNS))
             turns.ravel()[index] = delta_free
-            if np.linalg.norm(turns[:, 3:], axis=1).max(initial=0.0) > watchdog.turn:
+            turned_past = np.linalg.norm(turns[:, 3:], axis=1).max(initial=0.0) > watchdog.turn
+            if alone_first or turned_past:
                 scale, state, forces = watchdog.step(state, frames, left.copy(), r, True)
                 run.info["imposed_alone"] += 1
                 continue

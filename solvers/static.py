@@ -239,8 +239,10 @@ class Static:
     dragging them alone. Except with a frictional ply contact, where that first step, on the
     tangent of a state whose touching points all stick, turns a director past the update cap:
     the imposed motion is then applied alone and the return mapping there says which points
-    slide (``info["imposed_alone"]``; docs/theory.md §6.5, "Prescribed motion against stuck
-    points").
+    slide (``info["imposed_alone"]``); where the first step turns less and the attempt
+    fails, the increment is tried once more with its imposed motion applied alone before it
+    is cut (``info["imposed_alone_retries"]``; docs/theory.md §6.5, "Prescribed motion
+    against stuck points").
 
     Stability: every converged state gets the number of negative eigenvalues of the tangent
     K_ff last factorised on its way (that of the iterate whose update reached it, a step the

@@ -134,6 +134,7 @@ class StaticRun:
             "jumps": [],
             "regularised_iterations": 0,
             "imposed_alone": 0,
+            "imposed_alone_retries": 0,
             "shifted": [],
             "chord_corrections": 0,
             "arc_chords": 0,
