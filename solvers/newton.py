@@ -79,10 +79,11 @@ stall; the later increments freeze and predict their sets from the state it reac
 Stalled attempts (``Static(stall_iterations=N)``, off by default; ``stalled``): an attempt
 whose residual ratio stayed above STALLED_RATIO over its last N iterations is cut at once.
 
-Prescribed motion against stuck points (``imposes_alone``): with the plies' friction, the
+Prescribed motion against stuck points (solvers.imposed_alone): with the plies' friction, the
 first iteration of an increment applies its prescribed motion alone, the free unknowns held,
-where the first step turns a director past the update cap, and on a second attempt where the
-first attempt with the coupled step fails (``_newton``; docs/theory.md §6.5).
+where the first step turns a director past the update cap or lets go of a touching point, and
+on a second attempt where the first attempt with the coupled step fails (``_newton``;
+docs/theory.md §6.5).
 
 Increments sized by their first step (``Static(first_turn=theta)``, off by default;
 ``StepTooLong``): with ``newton(turn_limit=theta)`` an attempt whose first Newton step turns a
@@ -109,6 +110,7 @@ from femcore.state import State
 from solvers import contact_sets
 from solvers.common import IncrementFailed, StepTooLong
 from solvers.convergence import Equilibrium
+from solvers.imposed_alone import imposes_alone, moves_prescribed, opens_contact
 from solvers.inertia import convexified_step
 from solvers.line_search import Watchdog
 from solvers.linear import Factorisation
@@ -264,18 +266,6 @@ def curves_with_contact(model: CompiledModel, history: tuple) -> bool:
     return all(entry is None or getattr(entry, "gaps_decide", False) for entry in history[first:])
 
 
-def imposes_alone(model: CompiledModel) -> bool:
-    """Whether the first iteration of an increment with prescribed motion applies that motion
-    alone, the free unknowns held: a model with a frictional interaction that keeps no contact
-    set (the plies' friction, elements/ply_contact.py), whose converged state's tangent holds
-    every touching point stuck (docs/theory.md §6.5, "Prescribed motion against stuck
-    points"). The tools' contact, which freezes its sets, is left as it was."""
-    return any(
-        getattr(part, "friction", 0.0) > 0.0 and type(part).freeze is InteractionBlock.freeze
-        for part in model.interactions
-    )
-
-
 def _newton(
     run: StaticRun,
     state: State,
@@ -305,7 +295,7 @@ def _newton(
         # prescribed unknowns (without, ``_iterate`` has nothing to apply alone).
         if run.info["imposed_alone"] != applied_alone or not imposes_alone(run.model):
             raise
-        if not _moves_prescribed(run, state, load_factor):
+        if not moves_prescribed(run, state, load_factor):
             raise
         failed = failure
     run.info["imposed_alone_retries"] += 1
@@ -319,13 +309,6 @@ def _newton(
         failure.history = history + again
         raise
     return converged, failed.iterations + count, ratio, history + again
-
-
-def _moves_prescribed(run: StaticRun, state: State, load_factor: float) -> bool:
-    """Whether the increment from ``state`` to ``load_factor`` moves a prescribed unknown."""
-    moved = replace(state, load_factor=load_factor, time=load_factor)
-    left = run.equilibrium(load_factor).remaining(moved)
-    return bool(np.abs(left).max(initial=0.0) > 0.0)
 
 
 def _iterate(
@@ -475,13 +458,21 @@ def _iterate(
             # The tangent of the converged state holds every touching point stuck, and its
             # linear step may take the prescribed motion up where the stick springs are softest:
             # a pulled ply's free directors turned 2 rad for 0.5 mm. Where it turns a director
-            # past the update cap, the increment's prescribed motion is applied alone, the free
-            # unknowns held, and the return mapping at the moved state says which points slide
-            # (imposes_alone; docs/theory.md §6.5, "Prescribed motion against stuck points").
+            # past the update cap or lets go of a touching point, the increment's prescribed
+            # motion is applied alone, the free unknowns held, and the return mapping at the
+            # moved state says which points slide (solvers/imposed_alone.py; docs/theory.md
+            # §6.5, "Prescribed motion against stuck points").
             turns = np.zeros((model.n_nodes, N_COLUMNS))
             turns.ravel()[index] = delta_free
             turned_past = np.linalg.norm(turns[:, 3:], axis=1).max(initial=0.0) > watchdog.turn
-            if alone_first or turned_past:
+            opened = False
+            if not (alone_first or turned_past):
+                linear = left.ravel().copy()
+                linear[index] = delta_free
+                step = linear.reshape(-1, N_COLUMNS)
+                opened = opens_contact(model, state, dofs.advance(state, step, frames))
+                run.info["imposed_alone_opened"] += int(opened)
+            if alone_first or turned_past or opened:
                 scale, state, forces = watchdog.step(state, frames, left.copy(), r, True)
                 run.info["imposed_alone"] += 1
                 continue
