@@ -507,6 +507,11 @@ class PlyContactBlock(InteractionBlock):
         block's smoothing: (energy, dW/dg, d2W/dg2)."""
         return penalty_law(gap, stiffness, self.smoothing)
 
+    def touching(self, state: State, history: Any = None) -> np.ndarray:
+        """(P,) bool: the points that touch at ``state``, those ``history``'s sides keep off
+        their faces not (the protocol's ``touching``)."""
+        return self._held(state, history).touching.copy()
+
     def friction_state(
         self, state: State, history: PlyFrictionHistory | None, facing: Facing | None = None
     ) -> Sliding:

@@ -246,6 +246,13 @@ class InteractionBlock(ReadOnlyState, ABC):
         check the model)."""
         return None
 
+    def touching(self, state: State, history: Any = None) -> np.ndarray | None:
+        """(P,) bool: which of the block's contact points touch at ``state`` under
+        ``history``, or None (the default) where the block does not say. Static compares them
+        at an increment's start and at the end of its first linear step
+        (solvers/imposed_alone.py)."""
+        return None
+
     def update_history(self, state: State, history: Any) -> Any:
         """The history after a step a solver accepted at ``state``; never mutates ``history``."""
         return history

@@ -79,6 +79,12 @@ stall; the later increments freeze and predict their sets from the state it reac
 Stalled attempts (``Static(stall_iterations=N)``, off by default; ``stalled``): an attempt
 whose residual ratio stayed above STALLED_RATIO over its last N iterations is cut at once.
 
+Prescribed motion against stuck points (solvers.imposed_alone): with the plies' friction, the
+first iteration of an increment applies its prescribed motion alone, the free unknowns held,
+where the first step turns a director past the update cap or lets go of a touching point, and
+on a second attempt where the first attempt with the coupled step fails (``_newton``;
+docs/theory.md §6.5).
+
 Increments sized by their first step (``Static(first_turn=theta)``, off by default;
 ``StepTooLong``): with ``newton(turn_limit=theta)`` an attempt whose first Newton step turns a
 director by more than theta stops before the update, and the load path (solvers.load_path) cuts
@@ -104,6 +110,7 @@ from femcore.state import State
 from solvers import contact_sets
 from solvers.common import IncrementFailed, StepTooLong
 from solvers.convergence import Equilibrium
+from solvers.imposed_alone import imposes_alone, moves_prescribed, opens_contact
 from solvers.inertia import convexified_step
 from solvers.line_search import Watchdog
 from solvers.linear import Factorisation
@@ -259,18 +266,6 @@ def curves_with_contact(model: CompiledModel, history: tuple) -> bool:
     return all(entry is None or getattr(entry, "gaps_decide", False) for entry in history[first:])
 
 
-def imposes_alone(model: CompiledModel) -> bool:
-    """Whether the first iteration of an increment with prescribed motion applies that motion
-    alone, the free unknowns held: a model with a frictional interaction that keeps no contact
-    set (the plies' friction, elements/ply_contact.py), whose converged state's tangent holds
-    every touching point stuck (docs/theory.md §6.5, "Prescribed motion against stuck
-    points"). The tools' contact, which freezes its sets, is left as it was."""
-    return any(
-        getattr(part, "friction", 0.0) > 0.0 and type(part).freeze is InteractionBlock.freeze
-        for part in model.interactions
-    )
-
-
 def _newton(
     run: StaticRun,
     state: State,
@@ -280,13 +275,40 @@ def _newton(
     turn_limit: float | None = None,
 ):
     """``newton`` with the contact sets frozen or not; a failure carries the attempt's
-    iterations and residual ratios."""
+    iterations and residual ratios. In a model whose prescribed motion may be applied alone
+    (``imposes_alone``), an attempt whose first step took that motion with the free unknowns
+    and that fails is tried once more from ``state`` with the motion applied alone at its
+    first iteration, before the increment is cut (``info["imposed_alone_retries"]``; the
+    iterations and ratios of both attempts are counted; docs/theory.md §6.5, "Prescribed
+    motion against stuck points")."""
     history: list[float] = []
+    applied_alone = run.info["imposed_alone"]
     try:
         return _iterate(run, state, load_factor, max_iterations, frozen, history, turn_limit)
+    except StepTooLong as long:
+        long.iterations, long.history = 0, history
+        raise
     except IncrementFailed as failure:
         failure.iterations, failure.history = max(len(history) - 1, 0), history
+        # The retry only where the first attempt's first step was not already the motion
+        # alone (then the retry would repeat it bit for bit) and the increment moves
+        # prescribed unknowns (without, ``_iterate`` has nothing to apply alone).
+        if run.info["imposed_alone"] != applied_alone or not imposes_alone(run.model):
+            raise
+        if not moves_prescribed(run, state, load_factor):
+            raise
+        failed = failure
+    run.info["imposed_alone_retries"] += 1
+    again: list[float] = []
+    try:
+        converged, count, ratio, _ = _iterate(
+            run, state, load_factor, max_iterations, frozen, again, turn_limit, True
+        )
+    except IncrementFailed as failure:
+        failure.iterations = failed.iterations + max(len(again) - 1, 0)
+        failure.history = history + again
         raise
+    return converged, failed.iterations + count, ratio, history + again
 
 
 def _iterate(
@@ -297,8 +319,11 @@ def _iterate(
     frozen: bool,
     history: list[float],
     turn_limit: float | None = None,
+    alone_first: bool = False,
 ):
-    """The Newton iterations of ``newton``; ``history`` receives the residual ratios."""
+    """The Newton iterations of ``newton``; ``history`` receives the residual ratios.
+    ``alone_first``: the increment's prescribed motion applied alone at the first iteration
+    whatever its first step turns (``_newton``'s retry)."""
     solver = run.solver
     model = run.model
     dofs = model.dofs
@@ -433,12 +458,21 @@ def _iterate(
             # The tangent of the converged state holds every touching point stuck, and its
             # linear step may take the prescribed motion up where the stick springs are softest:
             # a pulled ply's free directors turned 2 rad for 0.5 mm. Where it turns a director
-            # past the update cap, the increment's prescribed motion is applied alone, the free
-            # unknowns held, and the return mapping at the moved state says which points slide
-            # (imposes_alone; docs/theory.md §6.5, "Prescribed motion against stuck points").
+            # past the update cap or lets go of a touching point, the increment's prescribed
+            # motion is applied alone, the free unknowns held, and the return mapping at the
+            # moved state says which points slide (solvers/imposed_alone.py; docs/theory.md
+            # §6.5, "Prescribed motion against stuck points").
             turns = np.zeros((model.n_nodes, N_COLUMNS))
             turns.ravel()[index] = delta_free
-            if np.linalg.norm(turns[:, 3:], axis=1).max(initial=0.0) > watchdog.turn:
+            turned_past = np.linalg.norm(turns[:, 3:], axis=1).max(initial=0.0) > watchdog.turn
+            opened = False
+            if not (alone_first or turned_past):
+                linear = left.ravel().copy()
+                linear[index] = delta_free
+                step = linear.reshape(-1, N_COLUMNS)
+                opened = opens_contact(model, state, dofs.advance(state, step, frames))
+                run.info["imposed_alone_opened"] += int(opened)
+            if alone_first or turned_past or opened:
                 scale, state, forces = watchdog.step(state, frames, left.copy(), r, True)
                 run.info["imposed_alone"] += 1
                 continue

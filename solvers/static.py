@@ -237,10 +237,13 @@ class Static:
     K_ff dq_f = r_f - K_fp dq_p for the part dq_p of the prescribed motion not yet applied, so
     the first iteration of an increment moves the structure with the imposed nodes instead of
     dragging them alone. Except with a frictional ply contact, where that first step, on the
-    tangent of a state whose touching points all stick, turns a director past the update cap:
-    the imposed motion is then applied alone and the return mapping there says which points
-    slide (``info["imposed_alone"]``; docs/theory.md §6.5, "Prescribed motion against stuck
-    points").
+    tangent of a state whose touching points all stick, turns a director past the update cap
+    or lets go of a touching point (``info["imposed_alone_opened"]``): the imposed motion is
+    then applied alone and the return mapping there says which points slide
+    (``info["imposed_alone"]``); an attempt that took that first step and fails is tried
+    once more with the imposed motion applied alone before the increment is cut
+    (``info["imposed_alone_retries"]``; solvers/imposed_alone.py, docs/theory.md §6.5,
+    "Prescribed motion against stuck points").
 
     Stability: every converged state gets the number of negative eigenvalues of the tangent
     K_ff last factorised on its way (that of the iterate whose update reached it, a step the

@@ -137,6 +137,8 @@ class StaticRun:
             "jumps": [],
             "regularised_iterations": 0,
             "imposed_alone": 0,
+            "imposed_alone_retries": 0,
+            "imposed_alone_opened": 0,
             "shifted": [],
             "chord_corrections": 0,
             "arc_chords": 0,

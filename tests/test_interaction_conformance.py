@@ -13,6 +13,8 @@ rounding O(eps |W| / step) = 1e-9 N, held to 1e-6 of the largest force or tangen
 closed forms and the turned copies to 1e-9 of the largest force (rounding of the geometry).
 """
 
+import dataclasses
+
 import numpy as np
 import pytest
 from friction_histories import shifted_anchors
@@ -446,6 +448,23 @@ def plies_with_friction(
         stick=stick,
     )
     return block, state, shifted_anchors(block.facing(state), 0.002, 0.2)
+
+
+def test_the_ply_contact_says_which_of_its_points_touch():
+    """``touching`` (the protocol's; Static compares it at an increment's start and at its
+    first step's end, solvers/imposed_alone.py): the jittered plies laid face on face touch
+    at some of their points and not at others (29 of 54); the upper ply lifted 1 mm, twice
+    the sum of the faces' half thicknesses (0.25 + 0.25 mm), touches at none, and pushed 0.2
+    mm into the lower one (the jitter is 0.1 mm), at every one."""
+    block, state, history = plies_with_friction()
+    touching = block.touching(state, history)
+    assert touching.dtype == bool and touching.shape == (len(block.above),)
+    assert 0 < touching.sum() < touching.size
+    upper = np.arange(state.positions.shape[0]) >= 9  # after the lower ply's 3 x 3 nodes
+    for lift, every in ((1.0, False), (-0.2, True)):
+        moved = state.positions + np.where(upper[:, None], [0.0, 0.0, lift], 0.0)
+        then = block.touching(dataclasses.replace(state, positions=moved), history)
+        assert then.all() if every else not then.any()
 
 
 @pytest.mark.parametrize(
