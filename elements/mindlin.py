@@ -25,6 +25,7 @@ import numpy as np
 
 from elements import kernels
 from elements.base import CellTangent, ElementBlock, ElementType, check_positive, local_tangent
+from elements.mindlin_folds import warn_folds
 from elements.mindlin_steps import cell_stable_dt, cheap_omega2, element_omega2, penalty_stable_dt
 from elements.mindlin_tables import (
     _IN_PLANE,
@@ -217,6 +218,8 @@ class MindlinShellBlock(ElementBlock):
         self.reference_directors = np.asarray(directors, dtype=float)
         self._product_tables: tuple[np.ndarray, np.ndarray] | None = None
 
+        # before the tables: a fold sharp enough to invert the volume is named first
+        warn_folds(self.reference_positions, self.connectivity, self.reference_directors)
         self._bind_tables()
         measures = self.reference_measures
         self.reference_metric = {
