@@ -22,7 +22,7 @@ from functools import partial
 
 import numpy as np
 
-from femcore.fingerprint import Fingerprint, fingerprint
+from femcore.fingerprint import Fingerprint, Uncalled, fingerprint
 from femcore.interaction import SPRINGS_HELD_STEPS
 from femcore.model import CompiledModel, Model
 from femcore.results import Frame, Result
@@ -131,7 +131,10 @@ class CentralDifference(StableStepRule):
         Called on every output frame (the first included, streamed or not); the dicts are
         ``result.info["frame_summaries"]``, one per frame of the series, also after a resume
         (they are part of the checkpoint): how a streamed run, which keeps only two frames in
-        memory, gives a history row per frame.
+        memory, gives a history row per frame. A checkpoint knows it by what it is made of
+        (its code, defaults, closure values and the globals it reads; an object's public
+        attributes), never by calling it: a resume with another is refused, as the rows kept
+        before the stop would have other columns than those after it.
     progress : show a progress bar on stderr, its share the time reached (None: unless under
         pytest or with FIBRESHELL_PROGRESS=0, solvers.progress.resolve_progress).
     kinetic_bound : the largest kinetic energy over external work KE / W of a quasi-static run
@@ -469,7 +472,9 @@ class CentralDifference(StableStepRule):
             "output": self.output is not None,
             "history": self.history is not None,
             "history_nodes": self.history_nodes,
-            "frame_summary": self.frame_summary is not None,
+            # what the rows kept before a stop were made by: another would mix their columns
+            # (read, never called: it takes a Frame)
+            "frame_summary": Uncalled(self.frame_summary),
         }
         return fingerprint(model, settings)
 

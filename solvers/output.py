@@ -22,6 +22,7 @@ from femcore.results import Frame, Result, write_vtu
 
 __all__ = [
     "CHECKPOINT_MAGIC",
+    "CheckpointMismatch",
     "ENERGY_KEYS",
     "FrameStream",
     "HistoryWriter",
@@ -328,6 +329,16 @@ def checkpoint_path(checkpoint: str | os.PathLike[str] | None) -> Path | None:
     return path
 
 
+class CheckpointMismatch(ValueError):
+    """A checkpoint written for another model or with other solver settings; ``changed``
+    names the items that differ (labels of ``Fingerprint.items``, e.g. "gravity 0",
+    "history_nodes")."""
+
+    def __init__(self, message: str, changed: list[str]):
+        super().__init__(message)
+        self.changed = changed
+
+
 def resume(path: Path | None, signature: Fingerprint | None) -> dict[str, Any] | None:
     """The checkpoint at ``path`` to resume from, None if there is none.
 
@@ -340,9 +351,11 @@ def resume(path: Path | None, signature: Fingerprint | None) -> dict[str, Any] |
 
     Raises
     ------
-    ValueError
+    CheckpointMismatch
         When the checkpoint was written for another model or with other solver settings,
-        naming the parts that differ (and the items within them), or is damaged.
+        naming the parts that differ (and the items within them).
+    ValueError
+        When it is damaged or not a checkpoint.
     """
     payload = load_checkpoint(path) if path is not None else None
     if payload is None:
@@ -359,8 +372,14 @@ def resume(path: Path | None, signature: Fingerprint | None) -> dict[str, Any] |
     if differences:
         only_solver = all(d.startswith("its solver settings") for d in differences)
         written = "with other solver settings" if only_solver else "for another model"
-        raise ValueError(
+        changed = sorted(
+            label
+            for label in set(signature.items) | set(saved.items)
+            if signature.items.get(label) != saved.items.get(label)
+        )
+        raise CheckpointMismatch(
             f"the checkpoint {str(path)!r} was written {written}: "
-            f"{'; '.join(differences)}; delete it or point checkpoint= elsewhere"
+            f"{'; '.join(differences)}; delete it or point checkpoint= elsewhere",
+            changed,
         )
     return payload

@@ -304,3 +304,36 @@ def test_a_relaxation_stopped_and_resumed_ends_as_one_never_stopped(tmp_path, mo
     assert resumed.info["iterations_per_increment"] == reference.info["iterations_per_increment"]
     np.testing.assert_array_equal(resumed.positions, reference.positions)
     assert len(resumed.frames) == len(reference.frames) == 4
+
+
+def sag_at(node: int):
+    """A frame summary whose code is the same for every node: only its captured value
+    differs."""
+    return lambda frame: {"time": frame.time, "sag": frame.positions[node, 2]}
+
+
+def test_a_checkpoint_of_another_frame_summary_is_refused(tmp_path):
+    """The rows kept before a stop were made by the checkpoint's frame_summary: a resume with
+    another (other columns, or the same columns of other nodes) would mix them."""
+    checkpoint = tmp_path / "run.ckpt"
+    explicit(frame_summary=sag_at(N // 2)).solve(cable(), checkpoint=checkpoint)
+    for other in (sag_at(N // 3), lambda frame: {"time": frame.time}, None):
+        with pytest.raises(ValueError, match=r"solver settings differ \(frame_summary\)"):
+            explicit(frame_summary=other).solve(cable(), checkpoint=checkpoint)
+    resumed = explicit(frame_summary=sag_at(N // 2)).solve(cable(), checkpoint=checkpoint)
+    assert len(resumed.info["frame_summaries"]) == 21
+
+
+def test_a_frame_summary_is_never_called_by_the_fingerprint():
+    """An amplitude is sampled at load factors; a frame summary (a function of a Frame) is
+    read, never called: a summary that keeps what it is given sees frames only."""
+    seen: list = []
+
+    def keeping(frame):
+        seen.append(frame)
+        return {}
+
+    compiled = cable().compile()
+    first = fingerprint(compiled, {"frame_summary": solvers.explicit.Uncalled(keeping)})
+    again = fingerprint(compiled, {"frame_summary": solvers.explicit.Uncalled(keeping)})
+    assert seen == [] and first == again
