@@ -335,15 +335,24 @@ class CentralDifference(StableStepRule):
                 stream.drop_after(good_time)
             run.frames[:] = kept[:1] + kept[-1:] if stream is not None else kept
             run.summaries[:] = [s for s in run.summaries if s[0] <= good_time * (1.0 + 1e-12)]
+            run.energy.drop_after(good_time)  # the failed steps' records go with their frames
             if run.summaries and kept[-1].time > run.summaries[-1][0]:
                 self._summarise(run, kept[-1])
-            return DivergenceError(
+            failure = DivergenceError(
                 f"central difference diverged at step {run.step}, t = {run.state.time:.6g} s "
                 f"(dt = {dt:.3g} s): {message}; the last frame is the last state that passed "
                 f"the checks (t = {good_time:.6g} s). Reduce dt or safety, or check the loads "
                 f"and material laws.{scaled}",
                 result(False),
             )
+            if history is not None:
+                try:
+                    history.drop_after(good_time)
+                except OSError as failed:  # (not to hide why the run stopped)
+                    failure.add_note(
+                        f"the history was not cut back to t = {good_time:.6g} s: {failed}"
+                    )
+            return failure
 
         def save() -> None:
             if saved_at is not None:

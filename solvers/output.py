@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import csv
 import hashlib
+import io
 import os
 import pickle
 from pathlib import Path
@@ -230,6 +231,20 @@ class HistoryWriter:
         self._pending.append(list(map(repr, numbers.tolist())))
         if len(self._pending) >= PENDING_ROWS:
             self.flush()
+
+    def drop_after(self, time: float) -> None:
+        """Write the rows waiting, then keep in the file only those at ``time`` (s) or before
+        (rewritten whole through a temporary file): a diverged run's history ends with its
+        last good state, as its series does."""
+        self.flush()
+        with open(self.path, newline="") as handle:
+            lines = list(csv.reader(handle))
+        whole = [row for row in lines[1:] if len(row) == len(lines[0])]  # (not a part row)
+        kept = [lines[0]] + [row for row in whole if float(row[0]) <= time * (1.0 + 1e-12)]
+        text = io.StringIO(newline="")
+        csv.writer(text).writerows(kept)
+        _atomic_write(self.path, text.getvalue().encode())
+        self.rows = len(kept) - 1
 
     def flush(self) -> None:
         """Write the rows appended since the last flush to the file (``rows`` counts the rows

@@ -287,18 +287,24 @@ def _diverging_with_history(history):
     )
 
 
-def test_a_diverged_run_leaves_every_history_row_it_recorded(tmp_path):
-    """The rows held in memory since the last frame are written when the run stops: the
-    history of a run that diverges before its first frame after the start holds a row per
-    energy record of its result."""
+def test_a_diverged_run_keeps_its_history_and_energy_records_to_its_last_good_state(tmp_path):
+    """The records of the steps after the last state that passed the checks are the
+    blow-up's (kinetic energy 7.9e3 times the work done): the result's energies and the
+    history end where the frames end, and the rows held in memory since the last frame are
+    written when the run stops (the run diverges before its first frame after the start, so
+    no frame flushed them): a row per energy record of the result."""
     from solvers import DivergenceError
 
     solver = _diverging_with_history(tmp_path / "run.csv")
     with pytest.raises(DivergenceError) as error:
         solver.solve(hanging_cable())
-    energies = error.value.result.energies
+    result = error.value.result
+    energies = result.energies
     rows = np.loadtxt(tmp_path / "run.csv", delimiter=",", skiprows=1, ndmin=2)
-    assert error.value.result.frames[-1].time < 0.01  # no frame flushed them
+    good = result.frames[-1].time
+    assert 0.0 < good < 0.01 and "the last state that passed the checks" in str(error.value)
+    assert energies["time"][-1] == good and rows[-1, 0] == good
+    assert all(len(values) == len(energies["time"]) for values in energies.values())
     assert len(rows) == len(energies["time"]) - 1 > 10
     np.testing.assert_array_equal(rows[:, 0], energies["time"][1:])
     np.testing.assert_array_equal(rows[:, 1], energies["kinetic"][1:])
