@@ -88,7 +88,8 @@ class Result:
     steps : int
         Time steps (explicit) or iterations (dynamic relaxation, static) taken.
     wall_time : float
-        Elapsed time of the solve, s.
+        Elapsed time of the solve, s; a solve resumed from a checkpoint counts the parts
+        before the stop too (up to that checkpoint: ``info["wall_time_before_resume"]``).
     converged : bool
         Whether the solver reached its goal.
     energies : dict[str, numpy.ndarray]

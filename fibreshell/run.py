@@ -240,7 +240,8 @@ def kept(out: Path, checkpoint: Path | None) -> str:
 
 def _solve(solver, model, **options) -> tuple[Result, SolverError | None, float]:
     """``solver.solve(model, **options)``: the result (the last good frames of a solver that
-    stopped), the error that stopped it (None when it reached its goal), the wall time (s).
+    stopped), the error that stopped it (None when it reached its goal), the wall time (s;
+    of a resumed run, with the parts before the stop up to its checkpoint).
 
     Raises
     ------
@@ -255,7 +256,8 @@ def _solve(solver, model, **options) -> tuple[Result, SolverError | None, float]
         if error.result is None:
             raise
         result, failure = error.result, error
-    return result, failure, time.perf_counter() - started
+    earlier = result.info.get("wall_time_before_resume", 0.0)
+    return result, failure, time.perf_counter() - started + earlier
 
 
 def solve_keeping(solver, model) -> tuple[Result, str, float]:

@@ -274,6 +274,9 @@ class CentralDifference(StableStepRule):
         if payload is not None:
             run: _Run = payload["run"]
             self._assembled = payload["assembled"]
+            # the wall time counts the parts before the stop (up to the checkpoint) too
+            run.wall_before = getattr(run, "wall_time", 0.0)  # (absent from older checkpoints)
+            started -= run.wall_before
         else:
             run = self._start(compiled)
         warn_penalty_only(compiled, run.state, "CentralDifference")
@@ -361,6 +364,7 @@ class CentralDifference(StableStepRule):
                 if history is not None:
                     history.flush()  # the rows the checkpoint counts are in the file
                     run.history_rows = history.rows
+                run.wall_time = time.perf_counter() - started
                 payload = {"signature": signature, "run": run, "assembled": self._assembled}
                 save_checkpoint(saved_at, payload)
 
@@ -641,6 +645,7 @@ class CentralDifference(StableStepRule):
             "damping": self.damping,
             "energy_balance_error": run.worst,
             "energy_growth": run.grown,
+            "wall_time_before_resume": getattr(run, "wall_before", 0.0),
             "quasi_static": quasi_static_report(
                 result.energies,
                 self._kinetic_bound(compiled),
@@ -722,6 +727,8 @@ class _Run:
     history_rows: int = 0
     summaries: list = field(default_factory=list)  # (time, frame_summary(frame)) per frame
     tools: ToolForceWatch | None = None  # the force-driven tools' forces over the last half
+    wall_time: float = 0.0  # s, the run's wall time up to its last checkpoint
+    wall_before: float = 0.0  # s, the wall time of the parts before the resume (0: none)
 
 
 def _roundoff(compiled: CompiledModel, run: _Run, dt: float) -> float:

@@ -8,6 +8,7 @@ import os
 import signal
 import subprocess
 import sys
+import time
 from pathlib import Path
 
 import numpy as np
@@ -304,6 +305,57 @@ def test_a_relaxation_stopped_and_resumed_ends_as_one_never_stopped(tmp_path, mo
     assert resumed.info["iterations_per_increment"] == reference.info["iterations_per_increment"]
     np.testing.assert_array_equal(resumed.positions, reference.positions)
     assert len(resumed.frames) == len(reference.frames) == 4
+
+
+PAUSE = 0.6  # s of wall time spent in the part of a run before its stop
+
+
+def test_an_explicit_run_resumed_counts_the_wall_time_before_its_stop(tmp_path, monkeypatch):
+    """A run that spent PAUSE seconds before its stop (at its 25th step, saved every 10):
+    the resumed result's wall time counts them, and says how much came before."""
+    original, calls = solvers.explicit.explicit_step, [0]
+
+    def slow_then_interrupted(*args, **kwargs):
+        calls[0] += 1
+        if calls[0] == 20:
+            time.sleep(PAUSE)
+        if calls[0] == 25:
+            os.kill(os.getpid(), signal.SIGINT)
+        return original(*args, **kwargs)
+
+    checkpoint = tmp_path / "run.ckpt"
+    with monkeypatch.context() as patch, interruptible():
+        patch.setattr(solvers.explicit, "explicit_step", slow_then_interrupted)
+        with pytest.raises(Interrupted) as stopped:
+            explicit().solve(cable(), checkpoint=checkpoint, checkpoint_interval=0.0)
+    resumed = explicit().solve(cable(), checkpoint=checkpoint, checkpoint_interval=0.0)
+    assert resumed.wall_time >= PAUSE
+    before = resumed.info["wall_time_before_resume"]
+    assert PAUSE <= before <= stopped.value.result.wall_time <= resumed.wall_time
+    assert explicit().solve(cable()).info["wall_time_before_resume"] == 0.0
+
+
+def test_a_relaxation_resumed_counts_the_wall_time_of_its_increments_before_the_stop(
+    tmp_path, monkeypatch
+):
+    checkpoint = tmp_path / "run.ckpt"
+    relax = DynamicRelaxation._relax
+
+    def slow_then_killed(self, model, state, load_factor, masses, progress, increment, *rest):
+        if increment == 2:
+            time.sleep(PAUSE)
+        if increment == 3:
+            raise KeyboardInterrupt
+        return relax(self, model, state, load_factor, masses, progress, increment, *rest)
+
+    monkeypatch.setattr(DynamicRelaxation, "_relax", slow_then_killed)
+    with pytest.raises(KeyboardInterrupt):
+        relaxation(increments=3).solve(cable(), checkpoint=checkpoint)
+    monkeypatch.setattr(DynamicRelaxation, "_relax", relax)
+    resumed = relaxation(increments=3).solve(cable(), checkpoint=checkpoint)
+    assert resumed.wall_time >= PAUSE
+    assert resumed.info["wall_time_before_resume"] >= PAUSE
+    assert resumed.wall_time >= resumed.info["wall_time_before_resume"]
 
 
 def sag_at(node: int):
