@@ -241,7 +241,9 @@ class CentralDifference(StableStepRule):
         -------
         femcore.results.Result
             Frames every ``output_interval`` (only the first and the last when they are
-            streamed to ``output``), energies, ``info`` (step, added mass, energy checks).
+            streamed to ``output``: ``info["output"]`` names the series that holds every one,
+            ``info["streamed_frames"]`` counts them), energies, ``info`` (step, added mass,
+            energy checks).
 
         Raises
         ------
@@ -317,7 +319,10 @@ class CentralDifference(StableStepRule):
         duration = self.duration
 
         def result(converged: bool) -> Result:
-            return self._result(compiled, run, started, converged)
+            made = self._result(compiled, run, started, converged)
+            if stream is not None:  # (Result.write warns that it holds two of these)
+                made.info["streamed_frames"] = len(stream.entries)
+            return made
 
         def diverged(message: str, dt: float):
             """The run stops: the frames end with the last state that passed the checks."""

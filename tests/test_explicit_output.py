@@ -3,6 +3,7 @@ ParaView index, the histories as CSV rows, and checkpoints that a killed run res
 same final state, bit for bit, as a run never interrupted."""
 
 import textwrap
+import warnings
 from pathlib import Path
 from xml.etree import ElementTree
 
@@ -86,6 +87,22 @@ def test_a_frame_read_back_from_the_series_is_the_one_computed(streamed, in_memo
         rtol=1e-12,
         atol=1e-15,
     )
+
+
+def test_writing_a_streamed_result_says_it_holds_two_frames_and_where_every_one_is(
+    streamed, in_memory, tmp_path
+):
+    """A streamed result holds the first and the last frame; a series written from it gets
+    those two, and says so, naming the streamed series that holds every one."""
+    tmp, result = streamed
+    for name in ("again.xdmf", "again.pvd"):
+        with pytest.warns(UserWarning, match=r"the 2 frames this result holds of the 51 .*run.pvd"):
+            result.write(tmp_path / name)
+    assert result.info["streamed_frames"] == 51 and result.info["output"] == str(tmp / "run.pvd")
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        result.write(tmp_path / "last.vtu")  # one frame asked for: the last, as it is
+        in_memory.write(tmp_path / "every.xdmf")  # every frame in memory
 
 
 def test_the_history_has_a_row_per_energy_record(streamed):
