@@ -25,7 +25,9 @@ import solvers.static
 import solvers.static_run
 from elements import Cable
 from femcore import Mesh, Model
+from femcore.fingerprint import Uncalled, digest
 from fibreshell.cli import main
+from fibreshell.run import FrameRows
 from solvers import CentralDifference, DynamicRelaxation, Interrupted, interruptible
 from solvers.interrupts import STOP
 
@@ -264,6 +266,22 @@ def test_a_resume_after_the_history_sets_changed_is_refused_naming_them(
     assert "[output.history]: changed since the checkpoint was written" in said
     assert "run without --resume" in said
     assert {p.name: p.read_bytes() for p in interrupted_folder.iterdir()} == before
+
+
+def test_the_rows_of_a_frame_are_known_by_their_sets_names_and_nodes():
+    """What a checkpoint reads of fibreshell's frame summary (FrameRows): a reactions set
+    redefined under its name (other nodes, the energy records' nodes unchanged) is another."""
+    origins = np.zeros((1, 3))
+    rows = [
+        FrameRows(reactions=(("left", np.array(nodes)),), displacements=(("tip", [9], origins),))
+        for nodes in ([0, 1], [0, 1], [0, 2])
+    ]
+    first, same, other = (digest(Uncalled(r)) for r in rows)
+    assert first == same != other
+    renamed = FrameRows(
+        reactions=(("held", np.array([0, 1])),), displacements=rows[0].displacements
+    )
+    assert digest(Uncalled(renamed)) != first
 
 
 def test_an_interrupted_static_run_keeps_its_converged_increments(tmp_path, monkeypatch, capsys):
