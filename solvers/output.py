@@ -272,10 +272,12 @@ class HistoryWriter:
 #: where it left (§9.3a), 8 since a ply contact's point whose gap is to an edge or a vertex lands
 #: where its way crossed that gap's zero and leaves with its slip counted (§9.3a), 9 since such a
 #: point's anchor near T's plane (|nu . n| <= TILT) takes the continuous blend and a sliding
-#: point's moved anchor is re-expressed by the same rule (§9.3a), so that a run resumed from an
-#: older checkpoint cannot change its meaning midway.
+#: point's moved anchor is re-expressed by the same rule (§9.3a), 10 since the fingerprint knows
+#: a frame_summary by what it is made of (the rows kept before a stop match the rest; 9 knew it
+#: as given or not), so that a run resumed from an older checkpoint cannot change its meaning
+#: midway.
 CHECKPOINT_PREFIX = b"fibreshell checkpoint "
-CHECKPOINT_FORMAT = 9
+CHECKPOINT_FORMAT = 10
 CHECKPOINT_MAGIC = CHECKPOINT_PREFIX + f"{CHECKPOINT_FORMAT}\n".encode()
 
 

@@ -226,7 +226,7 @@ def test_a_file_that_is_not_a_checkpoint_is_refused(tmp_path):
         CentralDifference(duration=1e-4, progress=False).solve(hanging_cable(), checkpoint=path)
 
 
-@pytest.mark.parametrize("older", [2, 3, 4, 5, 6, 7, 8])
+@pytest.mark.parametrize("older", [2, 3, 4, 5, 6, 7, 8, 9])
 def test_a_checkpoint_of_an_older_format_is_refused_naming_both_formats(tmp_path, older):
     """Format 2 recorded "internal" as the internal forces' work, friction included (format 3:
     the stored energy, docs/theory.md §6.1); format 3 anchored a tool contact's landing node
@@ -241,18 +241,19 @@ def test_a_checkpoint_of_an_older_format_is_refused_naming_both_formats(tmp_path
     such a point's anchor along T's normal where its gap's normal lay within TILT of T's plane,
     and re-expressed a sliding point's moved anchor along T's normal wherever nu . n <= 0.1, nu
     below T's plane included (format 9: the
-    continuous blend, the same rule for both, §9.3a): a run resumed from any would change the
-    meaning of its records or its friction midway, so it is refused, whole and checksummed as
-    it is."""
+    continuous blend, the same rule for both, §9.3a); format 9 knew a frame_summary only as
+    given or not (format 10: by what it is made of, so that the rows kept before a stop match
+    the rest): a run resumed from any would change the meaning of its records, its friction
+    or its rows midway, so it is refused, whole and checksummed as it is."""
     from solvers.output import CHECKPOINT_FORMAT, CHECKPOINT_MAGIC, save_checkpoint
 
-    assert CHECKPOINT_FORMAT == 9
+    assert CHECKPOINT_FORMAT == 10
     path = tmp_path / "run.ckpt"
     save_checkpoint(path, {"signature": "any"})
     data = path.read_bytes()
     header = f"fibreshell checkpoint {older}\n".encode()
     path.write_bytes(header + data[len(CHECKPOINT_MAGIC) :])
-    with pytest.raises(ValueError, match=f"checkpoint of format {older}, .* reads format 9"):
+    with pytest.raises(ValueError, match=f"checkpoint of format {older}, .* reads format 10"):
         CentralDifference(duration=1e-4, progress=False).solve(hanging_cable(), checkpoint=path)
 
 
