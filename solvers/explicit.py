@@ -134,7 +134,8 @@ class CentralDifference(StableStepRule):
         memory, gives a history row per frame. A checkpoint knows it by what it is made of
         (its code, defaults, closure values and the globals it reads; an object's public
         attributes), never by calling it: a resume with another is refused, as the rows kept
-        before the stop would have other columns than those after it.
+        before the stop would have other columns than those after it. (One that appends to a
+        list it reads is another once the list has grown: return the row instead.)
     progress : show a progress bar on stderr, its share the time reached (None: unless under
         pytest or with FIBRESHELL_PROGRESS=0, solvers.progress.resolve_progress).
     kinetic_bound : the largest kinetic energy over external work KE / W of a quasi-static run
