@@ -198,8 +198,8 @@ def run_case(
         key = setting.option if setting.option in case.solver["options"] else None
         raise _Where(case.path, "solver").error(key, str(setting)) from None
     except CheckpointMismatch as refused:
-        if not HISTORY_SETTINGS.intersection(refused.changed):
-            raise
+        if not refused.changed or not HISTORY_SETTINGS.issuperset(refused.changed):
+            raise  # (the model or other settings too: the message names every part)
         raise _Where(case.path, "output").error(
             "history",
             "changed since the checkpoint was written (a set added, removed or redefined): "
