@@ -46,7 +46,7 @@ from femcore.mesh import CELL_KINDS
 if TYPE_CHECKING:
     from femcore.compiled import CompiledModel
 
-__all__ = ["PARTS", "Fingerprint", "digest", "fingerprint"]
+__all__ = ["PARTS", "Fingerprint", "Uncalled", "digest", "fingerprint"]
 
 #: The parts of a fingerprint, in the order a message names them.
 PARTS = ("mesh", "elements", "materials", "supports", "loads", "tools", "interactions", "solver")
@@ -58,6 +58,16 @@ SAMPLES = (*np.linspace(0.0, 1.0, 21).tolist(), 0.0123, 0.3141, 0.5772, 0.7071, 
 # Objects nested deeper than this are cut off (their class is still hashed): a guard against
 # pathological structures, far deeper than any element or law.
 _MAX_DEPTH = 48
+
+
+@dataclass(frozen=True)
+class Uncalled:
+    """A value to digest by what it is made of, its functions never called: a solver's
+    ``frame_summary`` (a function of a Frame) would otherwise be fed the load factors an
+    amplitude is sampled at. A function inside it counts by its code, defaults, closure values
+    and the globals it reads; an object by its public attributes."""
+
+    value: Any
 
 
 @dataclass(frozen=True)
@@ -201,6 +211,7 @@ class _Digest:
     the call) and the objects being read, to cut reference cycles."""
 
     def __init__(self) -> None:
+        self.calls = True  # whether a function of one argument is sampled (not in Uncalled)
         self.memo: dict[int, bytes] = {}
         self.reading: set[int] = set()
         self.keep: list[Any] = []  # memoised objects stay alive, so their ids stay theirs
@@ -209,6 +220,10 @@ class _Digest:
         leaf = _leaf(value)
         if leaf is not None:
             return hashlib.sha256(leaf).digest()
+        if isinstance(value, Uncalled):  # its own memo: read uncalled is another digest
+            inner = _Digest()
+            inner.calls = False
+            return hashlib.sha256(b"uncalled" + inner.of(value.value, depth + 1)).digest()
         key = id(value)
         if key in self.memo:
             return self.memo[key]
@@ -249,7 +264,7 @@ class _Digest:
             pairs = sorted(((self.of(k, 0), v) for k, v in value.items()), key=lambda p: p[0])
             return [piece for pair in pairs for piece in pair]
         if isinstance(value, types.FunctionType):
-            return _function_pieces(value)
+            return _function_pieces(value, self.calls)
         if isinstance(value, types.MethodType):
             return [value.__func__, value.__self__]
         if isinstance(value, types.CodeType):
@@ -286,10 +301,11 @@ def _leaf(value: Any) -> bytes | None:
     return None
 
 
-def _function_pieces(function: types.FunctionType) -> list[Any]:
+def _function_pieces(function: types.FunctionType, calls: bool = True) -> list[Any]:
     """A function's code, defaults, closure values and the globals its code reads, and its
-    values at SAMPLES when it takes one argument (an amplitude). Not its name nor its module:
-    the same lambda defined in a script (``__main__``) and in a module is the same amplitude."""
+    values at SAMPLES when it takes one argument (an amplitude) and ``calls``. Not its name
+    nor its module: the same lambda defined in a script (``__main__``) and in a module is the
+    same amplitude."""
     pieces: list[Any] = [function.__code__, function.__defaults__, function.__kwdefaults__]
     for cell in function.__closure__ or ():
         try:
@@ -300,7 +316,7 @@ def _function_pieces(function: types.FunctionType) -> list[Any]:
     for name in names:
         if name in function.__globals__:
             pieces += [name.encode(), function.__globals__[name]]
-    if _one_argument(function):
+    if calls and _one_argument(function):
         pieces.append(_samples(function))
     return pieces
 

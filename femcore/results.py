@@ -9,6 +9,7 @@ from __future__ import annotations
 import dataclasses
 import os
 import re
+import warnings
 from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
@@ -88,7 +89,8 @@ class Result:
     steps : int
         Time steps (explicit) or iterations (dynamic relaxation, static) taken.
     wall_time : float
-        Elapsed time of the solve, s.
+        Elapsed time of the solve, s; a solve resumed from a checkpoint counts the parts
+        before the stop too (up to that checkpoint: ``info["wall_time_before_resume"]``).
     converged : bool
         Whether the solver reached its goal.
     energies : dict[str, numpy.ndarray]
@@ -338,7 +340,10 @@ class Result:
         """Write for ParaView.
 
         ``.vtu``: one frame (the last unless ``frame`` is given). ``.pvd``: every frame as a
-        VTU series next to a ParaView collection file. ``.xdmf``: every frame in one XDMF
+        VTU series next to a ParaView collection file. A streamed explicit run
+        (``CentralDifference(output=...)``) holds only its first and last frames: a series
+        written from it has those two, and a UserWarning names the streamed series that
+        holds every frame. ``.xdmf``: every frame in one XDMF
         time series whose arrays are in binary HDF5 beside it (``<stem>.h5``, the mesh once,
         the fields per frame; femcore.xdmf). Every format holds the same thing: the
         reference coordinates and, per frame, the "displacement" field with the other nodal
@@ -372,6 +377,16 @@ class Result:
         suffix = path.suffix.lower()
         if suffix not in (".vtu", ".pvd", ".xdmf"):
             raise ValueError(f"cannot write {path.name!r}: expected a .vtu, .pvd or .xdmf path")
+        streamed = self.info.get("streamed_frames", 0)
+        if suffix != ".vtu" and streamed > len(self.frames):
+            warnings.warn(
+                f"{path.name!r} gets the {len(self.frames)} frames this result holds of the "
+                f"{streamed} of its run: the solver streamed them to "
+                f"{str(self.info.get('output'))!r}, which holds every one (and keeps only the "
+                "first and the last in memory)",
+                UserWarning,
+                stacklevel=2,
+            )
         frames = 1 if suffix == ".vtu" else len(self.frames)
         check_folder(path.parent, "write", needed=frames * frame_bytes(self.mesh), create=False)
         written: list[str] = []

@@ -317,6 +317,9 @@ def _main(argv: list[str]) -> int:
             stopped = True
             print(f"{case.title}{where}: STOPPED after {run.wall_time:.1f} s: {run.error}")
         else:
-            print(f"{case.title}{where}: done in {run.wall_time:.1f} s, {run.result.steps} steps")
+            before = getattr(run.result, "info", {}).get("wall_time_before_resume", 0.0)
+            resumed = f" ({before:.1f} s of them before the resume)" if before > 0.0 else ""
+            print(f"{case.title}{where}: done in {run.wall_time:.1f} s{resumed}, "
+                  f"{run.result.steps} steps")  # fmt: skip
     print(f"results in {out}/ ({time.perf_counter() - started:.1f} s in all)")
     return 1 if stopped else 0

@@ -5,7 +5,6 @@ summary.json (strict JSON: no NaN or Infinity, a non-finite number is null and n
 from __future__ import annotations
 
 import csv
-import functools
 import json
 import math
 import time
@@ -22,11 +21,16 @@ from fibreshell.case_reading import _Where
 from fibreshell.outputs import checkpoint_collision, clean_run
 from solvers import Interrupted, SolverError
 from solvers.common import SettingError
-from solvers.output import ENERGY_KEYS
+from solvers.output import ENERGY_KEYS, CheckpointMismatch
+
+# The explicit solver's settings made of the case's [output] history: the energy records'
+# watched nodes and the rows of history.csv (FrameRows).
+HISTORY_SETTINGS = frozenset({"history_nodes", "frame_summary"})
 
 __all__ = [
-    "Run", "check_run_options", "frame_row", "frames_written", "history_rows", "kept", "path_axis",
-    "profile", "run_case", "section_thickness", "solve_keeping", "strict_json", "summarise",
+    "FrameRows", "Run", "check_run_options", "frame_row", "frames_written", "history_rows", "kept",
+    "path_axis", "profile", "run_case", "section_thickness", "solve_keeping", "strict_json",
+    "summarise",
 ]  # fmt: skip
 
 
@@ -183,7 +187,7 @@ def run_case(
         watched = [mesh.nodes(name) for name in case.history.get("displacements", [])]
         outputs["history"] = out / "energies.csv"
         outputs["history_nodes"] = np.unique(np.concatenate(watched)) if watched else ()
-        outputs["frame_summary"] = functools.partial(frame_row, case)
+        outputs["frame_summary"] = FrameRows.of(case)
         options["checkpoint_interval"] = case.solver.get("checkpoint_interval", 60.0)
     if checkpoint is not None:
         options["checkpoint"] = checkpoint
@@ -193,6 +197,15 @@ def run_case(
     except SettingError as setting:  # found as the solve starts: at its [solver] key
         key = setting.option if setting.option in case.solver["options"] else None
         raise _Where(case.path, "solver").error(key, str(setting)) from None
+    except CheckpointMismatch as refused:
+        if not refused.changed or not HISTORY_SETTINGS.issuperset(refused.changed):
+            raise  # (the model or other settings too: the message names every part)
+        raise _Where(case.path, "output").error(
+            "history",
+            "changed since the checkpoint was written (a set added, removed or redefined): "
+            "the rows kept before the stop have the old columns; give it back as it was to "
+            f"resume from {str(checkpoint)!r}, or run without --resume to start again",
+        ) from None
     error = "" if failure is None else str(failure)
     status = "interrupted" if isinstance(failure, Interrupted) else "stopped" if error else "done"
     label = kinematics or ("fibrous" if case.has_fibrous else case.parts[0]["kind"])
@@ -227,7 +240,8 @@ def kept(out: Path, checkpoint: Path | None) -> str:
 
 def _solve(solver, model, **options) -> tuple[Result, SolverError | None, float]:
     """``solver.solve(model, **options)``: the result (the last good frames of a solver that
-    stopped), the error that stopped it (None when it reached its goal), the wall time (s).
+    stopped), the error that stopped it (None when it reached its goal), the wall time (s;
+    of a resumed run, with the parts before the stop up to its checkpoint).
 
     Raises
     ------
@@ -242,7 +256,8 @@ def _solve(solver, model, **options) -> tuple[Result, SolverError | None, float]
         if error.result is None:
             raise
         result, failure = error.result, error
-    return result, failure, time.perf_counter() - started
+    earlier = result.info.get("wall_time_before_resume", 0.0)
+    return result, failure, time.perf_counter() - started + earlier
 
 
 def solve_keeping(solver, model) -> tuple[Result, str, float]:
@@ -258,31 +273,62 @@ def solve_keeping(solver, model) -> tuple[Result, str, float]:
     return result, "" if failure is None else str(failure), wall
 
 
+@dataclass(frozen=True)
+class FrameRows:
+    """The history columns of a frame (``frame_row``), made of what shapes them and nothing
+    else: the ``history.reactions`` sets and the ``history.displacements`` sets by name, node
+    indices and reference coordinates, in the case's order. An explicit run's solver is given
+    it as its ``frame_summary``, and its checkpoint's fingerprint reads it (femcore.fingerprint):
+    a resume after ``[output] history`` changed, a set added, removed or redefined under its
+    name, is refused before the run goes on, where the rows kept before the stop would have
+    carried the old columns."""
+
+    reactions: tuple[tuple[str, np.ndarray], ...]
+    displacements: tuple[tuple[str, np.ndarray, np.ndarray], ...]  # name, nodes, (k, 3) mm
+
+    @classmethod
+    def of(cls, case: Case) -> FrameRows:
+        mesh = case.mesh
+        reactions = tuple((name, mesh.nodes(name)) for name in case.history.get("reactions", []))
+        displacements = tuple(
+            (name, nodes, mesh.points[nodes])
+            for name in case.history.get("displacements", [])
+            for nodes in [mesh.nodes(name)]
+        )
+        return cls(reactions, displacements)
+
+    def __call__(self, frame: Frame) -> dict[str, float]:
+        row: dict[str, float] = {"time": frame.time, "load_factor": frame.load_factor}
+        for name, nodes in self.reactions:
+            total = frame.reactions[nodes].sum(axis=0)
+            row.update({f"reaction_{name}_{axis}": float(total[i]) for i, axis in enumerate("xyz")})
+        for name, nodes, origins in self.displacements:
+            mean = (frame.positions[nodes] - origins).mean(axis=0)
+            row.update(
+                {f"displacement_{name}_{axis}": float(mean[i]) for i, axis in enumerate("xyz")}
+            )
+        moved = getattr(frame, "tool_displacements", np.zeros((0, 3)))
+        for tool, force in enumerate(frame.tool_forces, start=1):
+            row.update(
+                {f"tool{tool}_force_{axis}": float(force[i]) for i, axis in enumerate("xyz")}
+            )
+            if len(moved) >= tool:
+                row.update(
+                    {
+                        f"tool{tool}_displacement_{axis}": float(moved[tool - 1][i])
+                        for i, axis in enumerate("xyz")
+                    }
+                )
+        return row
+
+
 def frame_row(case: Case, frame: Frame) -> dict[str, float]:
     """The history columns of one frame: ``time`` (s), ``load_factor``,
     ``reaction_<set>_x/y/z`` the reaction sums over each ``history.reactions`` set (N),
     ``displacement_<set>_x/y/z`` the mean displacement of each ``history.displacements`` set
     (mm), ``tool<k>_force_x/y/z`` the force on each rigid tool (N) and
     ``tool<k>_displacement_x/y/z`` its translation from where it was given (mm)."""
-    row: dict[str, float] = {"time": frame.time, "load_factor": frame.load_factor}
-    for name in case.history.get("reactions", []):
-        total = frame.reactions[case.mesh.nodes(name)].sum(axis=0)
-        row.update({f"reaction_{name}_{axis}": float(total[i]) for i, axis in enumerate("xyz")})
-    for name in case.history.get("displacements", []):
-        nodes = case.mesh.nodes(name)
-        mean = (frame.positions[nodes] - case.mesh.points[nodes]).mean(axis=0)
-        row.update({f"displacement_{name}_{axis}": float(mean[i]) for i, axis in enumerate("xyz")})
-    moved = getattr(frame, "tool_displacements", np.zeros((0, 3)))
-    for tool, force in enumerate(frame.tool_forces, start=1):
-        row.update({f"tool{tool}_force_{axis}": float(force[i]) for i, axis in enumerate("xyz")})
-        if len(moved) >= tool:
-            row.update(
-                {
-                    f"tool{tool}_displacement_{axis}": float(moved[tool - 1][i])
-                    for i, axis in enumerate("xyz")
-                }
-            )
-    return row
+    return FrameRows.of(case)(frame)
 
 
 def history_rows(case: Case, result: Result) -> list[dict]:

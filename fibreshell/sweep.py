@@ -53,6 +53,8 @@ _SPACES: dict[str, Any] = {"linspace": np.linspace, "geomspace": np.geomspace}
 MAX_VARIANTS = 10_000
 # A variant's folder in the sweep's: variant-000, variant-001, ... (variant-1000 past 999).
 VARIANT_FOLDER = re.compile(r"variant-[0-9]{3,}")
+# The error of a variant a stopped sweep (Ctrl-C, SIGTERM: exit 130) did not finish.
+INTERRUPTED = "interrupted: the sweep was stopped before this variant ended"
 
 
 # ------------------------------------------------------------------ the variants
@@ -447,7 +449,9 @@ def sweep(
     -------
     SweepTable
         Rows in variant order; a variant that failed is a row with ``converged`` false and
-        its ``error``, the others run on. ``sweep.csv`` is rewritten as each variant ends.
+        its ``error``, the others run on. ``sweep.csv`` is rewritten as each variant ends,
+        and once more when the sweep is stopped (KeyboardInterrupt, raised on): the variants
+        that did not end then have ``converged`` false and ``error`` INTERRUPTED.
 
     Raises
     ------
@@ -501,7 +505,10 @@ def sweep(
         raise ValueError(f"no variant of the sweep could be built: {errors[0]}")
     table = SweepTable(keys=list(vary), rows=rows, summaries=[None] * len(rows))
 
+    ended: set[int] = set()  # the tasks that ended (their rows filled)
+
     def done(task: int, result: Any) -> None:
+        ended.add(task)
         i = where[task]
         if isinstance(result, Failure):
             rows[i].update(converged=False, error=result.error)
@@ -511,24 +518,32 @@ def sweep(
         if folder is not None:
             table.write_csv(folder / "sweep.csv")
 
-    if in_process:
-        for task, arguments in enumerate(tasks):
-            result: Any
-            try:  # as map_tasks on a cluster: an error escaping the variant is its row's
-                result = run_variant(*arguments)
-            except Exception as error:
-                result = Failure(f"{type(error).__name__}: {error}")
-            done(task, result)
-    else:
-        with dask_client(scheduler, workers) as (client, threads):
-            map_tasks(
-                client,
-                run_variant,
-                [(*task, threads) for task in tasks],
-                f"sweep {path.stem}",
-                progress,
-                done,
-            )
+    try:
+        if in_process:
+            for task, arguments in enumerate(tasks):
+                result: Any
+                try:  # as map_tasks on a cluster: an error escaping the variant is its row's
+                    result = run_variant(*arguments)
+                except Exception as error:
+                    result = Failure(f"{type(error).__name__}: {error}")
+                done(task, result)
+        else:
+            with dask_client(scheduler, workers) as (client, threads):
+                map_tasks(
+                    client,
+                    run_variant,
+                    [(*task, threads) for task in tasks],
+                    f"sweep {path.stem}",
+                    progress,
+                    done,
+                )
+    except KeyboardInterrupt:  # Ctrl-C: the variants that did not end say so in sweep.csv
+        for task, i in enumerate(where):
+            if task not in ended:
+                rows[i].update(converged=False, error=INTERRUPTED)
+        if folder is not None:
+            table.write_csv(folder / "sweep.csv")
+        raise
     if folder is not None:
         table.write_csv(folder / "sweep.csv")
     return table

@@ -341,6 +341,14 @@ class EnergyAccount:
     def arrays(self) -> dict[str, np.ndarray]:
         return {k: np.asarray(v) for k, v in self.records.items()}
 
+    def drop_after(self, time: float) -> None:
+        """Forget the records after ``time`` (s): a diverged run's records end with its last
+        good state, as its frames do (the failed steps' energies are the blow-up's, not the
+        model's)."""
+        kept = sum(t <= time * (1.0 + 1e-12) for t in self.records["time"])
+        for values in self.records.values():
+            del values[kept:]
+
 
 class FrameSchedule:
     """When to write a frame: every ``interval`` of time and at the end of ``duration``."""

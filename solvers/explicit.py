@@ -22,7 +22,7 @@ from functools import partial
 
 import numpy as np
 
-from femcore.fingerprint import Fingerprint, fingerprint
+from femcore.fingerprint import Fingerprint, Uncalled, fingerprint
 from femcore.interaction import SPRINGS_HELD_STEPS
 from femcore.model import CompiledModel, Model
 from femcore.results import Frame, Result
@@ -131,7 +131,11 @@ class CentralDifference(StableStepRule):
         Called on every output frame (the first included, streamed or not); the dicts are
         ``result.info["frame_summaries"]``, one per frame of the series, also after a resume
         (they are part of the checkpoint): how a streamed run, which keeps only two frames in
-        memory, gives a history row per frame.
+        memory, gives a history row per frame. A checkpoint knows it by what it is made of
+        (its code, defaults, closure values and the globals it reads; an object's public
+        attributes), never by calling it: a resume with another is refused, as the rows kept
+        before the stop would have other columns than those after it. (One that appends to a
+        list it reads is another once the list has grown: return the row instead.)
     progress : show a progress bar on stderr, its share the time reached (None: unless under
         pytest or with FIBRESHELL_PROGRESS=0, solvers.progress.resolve_progress).
     kinetic_bound : the largest kinetic energy over external work KE / W of a quasi-static run
@@ -238,7 +242,9 @@ class CentralDifference(StableStepRule):
         -------
         femcore.results.Result
             Frames every ``output_interval`` (only the first and the last when they are
-            streamed to ``output``), energies, ``info`` (step, added mass, energy checks).
+            streamed to ``output``: ``info["output"]`` names the series that holds every one,
+            ``info["streamed_frames"]`` counts them), energies, ``info`` (step, added mass,
+            energy checks).
 
         Raises
         ------
@@ -271,6 +277,9 @@ class CentralDifference(StableStepRule):
         if payload is not None:
             run: _Run = payload["run"]
             self._assembled = payload["assembled"]
+            # the wall time counts the parts before the stop (up to the checkpoint) too
+            run.wall_before = getattr(run, "wall_time", 0.0)  # (absent from older checkpoints)
+            started -= run.wall_before
         else:
             run = self._start(compiled)
         warn_penalty_only(compiled, run.state, "CentralDifference")
@@ -311,7 +320,10 @@ class CentralDifference(StableStepRule):
         duration = self.duration
 
         def result(converged: bool) -> Result:
-            return self._result(compiled, run, started, converged)
+            made = self._result(compiled, run, started, converged)
+            if stream is not None:  # (Result.write warns that it holds two of these)
+                made.info["streamed_frames"] = len(stream.entries)
+            return made
 
         def diverged(message: str, dt: float):
             """The run stops: the frames end with the last state that passed the checks."""
@@ -332,15 +344,24 @@ class CentralDifference(StableStepRule):
                 stream.drop_after(good_time)
             run.frames[:] = kept[:1] + kept[-1:] if stream is not None else kept
             run.summaries[:] = [s for s in run.summaries if s[0] <= good_time * (1.0 + 1e-12)]
+            run.energy.drop_after(good_time)  # the failed steps' records go with their frames
             if run.summaries and kept[-1].time > run.summaries[-1][0]:
                 self._summarise(run, kept[-1])
-            return DivergenceError(
+            failure = DivergenceError(
                 f"central difference diverged at step {run.step}, t = {run.state.time:.6g} s "
                 f"(dt = {dt:.3g} s): {message}; the last frame is the last state that passed "
                 f"the checks (t = {good_time:.6g} s). Reduce dt or safety, or check the loads "
                 f"and material laws.{scaled}",
                 result(False),
             )
+            if history is not None:
+                try:
+                    history.drop_after(good_time)
+                except OSError as failed:  # (not to hide why the run stopped)
+                    failure.add_note(
+                        f"the history was not cut back to t = {good_time:.6g} s: {failed}"
+                    )
+            return failure
 
         def save() -> None:
             if saved_at is not None:
@@ -349,6 +370,7 @@ class CentralDifference(StableStepRule):
                 if history is not None:
                     history.flush()  # the rows the checkpoint counts are in the file
                     run.history_rows = history.rows
+                run.wall_time = time.perf_counter() - started
                 payload = {"signature": signature, "run": run, "assembled": self._assembled}
                 save_checkpoint(saved_at, payload)
 
@@ -469,7 +491,9 @@ class CentralDifference(StableStepRule):
             "output": self.output is not None,
             "history": self.history is not None,
             "history_nodes": self.history_nodes,
-            "frame_summary": self.frame_summary is not None,
+            # what the rows kept before a stop were made by: another would mix their columns
+            # (read, never called: it takes a Frame)
+            "frame_summary": Uncalled(self.frame_summary),
         }
         return fingerprint(model, settings)
 
@@ -627,6 +651,7 @@ class CentralDifference(StableStepRule):
             "damping": self.damping,
             "energy_balance_error": run.worst,
             "energy_growth": run.grown,
+            "wall_time_before_resume": getattr(run, "wall_before", 0.0),
             "quasi_static": quasi_static_report(
                 result.energies,
                 self._kinetic_bound(compiled),
@@ -708,6 +733,8 @@ class _Run:
     history_rows: int = 0
     summaries: list = field(default_factory=list)  # (time, frame_summary(frame)) per frame
     tools: ToolForceWatch | None = None  # the force-driven tools' forces over the last half
+    wall_time: float = 0.0  # s, the run's wall time up to its last checkpoint
+    wall_before: float = 0.0  # s, the wall time of the parts before the resume (0: none)
 
 
 def _roundoff(compiled: CompiledModel, run: _Run, dt: float) -> float:

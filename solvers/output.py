@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import csv
 import hashlib
+import io
 import os
 import pickle
 from pathlib import Path
@@ -22,6 +23,7 @@ from femcore.results import Frame, Result, write_vtu
 
 __all__ = [
     "CHECKPOINT_MAGIC",
+    "CheckpointMismatch",
     "ENERGY_KEYS",
     "FrameStream",
     "HistoryWriter",
@@ -230,6 +232,20 @@ class HistoryWriter:
         if len(self._pending) >= PENDING_ROWS:
             self.flush()
 
+    def drop_after(self, time: float) -> None:
+        """Write the rows waiting, then keep in the file only those at ``time`` (s) or before
+        (rewritten whole through a temporary file): a diverged run's history ends with its
+        last good state, as its series does."""
+        self.flush()
+        with open(self.path, newline="") as handle:
+            lines = list(csv.reader(handle))
+        whole = [row for row in lines[1:] if len(row) == len(lines[0])]  # (not a part row)
+        kept = [lines[0]] + [row for row in whole if float(row[0]) <= time * (1.0 + 1e-12)]
+        text = io.StringIO(newline="")
+        csv.writer(text).writerows(kept)
+        _atomic_write(self.path, text.getvalue().encode())
+        self.rows = len(kept) - 1
+
     def flush(self) -> None:
         """Write the rows appended since the last flush to the file (``rows`` counts the rows
         written: what a checkpoint may count). The rows are taken off the queue before the
@@ -256,10 +272,12 @@ class HistoryWriter:
 #: where it left (§9.3a), 8 since a ply contact's point whose gap is to an edge or a vertex lands
 #: where its way crossed that gap's zero and leaves with its slip counted (§9.3a), 9 since such a
 #: point's anchor near T's plane (|nu . n| <= TILT) takes the continuous blend and a sliding
-#: point's moved anchor is re-expressed by the same rule (§9.3a), so that a run resumed from an
-#: older checkpoint cannot change its meaning midway.
+#: point's moved anchor is re-expressed by the same rule (§9.3a), 10 since the fingerprint knows
+#: a frame_summary by what it is made of (the rows kept before a stop match the rest; 9 knew it
+#: as given or not), so that a run resumed from an older checkpoint cannot change its meaning
+#: midway.
 CHECKPOINT_PREFIX = b"fibreshell checkpoint "
-CHECKPOINT_FORMAT = 9
+CHECKPOINT_FORMAT = 10
 CHECKPOINT_MAGIC = CHECKPOINT_PREFIX + f"{CHECKPOINT_FORMAT}\n".encode()
 
 
@@ -328,6 +346,16 @@ def checkpoint_path(checkpoint: str | os.PathLike[str] | None) -> Path | None:
     return path
 
 
+class CheckpointMismatch(ValueError):
+    """A checkpoint written for another model or with other solver settings; ``changed``
+    names the items that differ (labels of ``Fingerprint.items``, e.g. "gravity 0",
+    "history_nodes")."""
+
+    def __init__(self, message: str, changed: list[str]):
+        super().__init__(message)
+        self.changed = changed
+
+
 def resume(path: Path | None, signature: Fingerprint | None) -> dict[str, Any] | None:
     """The checkpoint at ``path`` to resume from, None if there is none.
 
@@ -340,9 +368,11 @@ def resume(path: Path | None, signature: Fingerprint | None) -> dict[str, Any] |
 
     Raises
     ------
-    ValueError
+    CheckpointMismatch
         When the checkpoint was written for another model or with other solver settings,
-        naming the parts that differ (and the items within them), or is damaged.
+        naming the parts that differ (and the items within them).
+    ValueError
+        When it is damaged or not a checkpoint.
     """
     payload = load_checkpoint(path) if path is not None else None
     if payload is None:
@@ -359,8 +389,14 @@ def resume(path: Path | None, signature: Fingerprint | None) -> dict[str, Any] |
     if differences:
         only_solver = all(d.startswith("its solver settings") for d in differences)
         written = "with other solver settings" if only_solver else "for another model"
-        raise ValueError(
+        changed = sorted(
+            label
+            for label in set(signature.items) | set(saved.items)
+            if signature.items.get(label) != saved.items.get(label)
+        )
+        raise CheckpointMismatch(
             f"the checkpoint {str(path)!r} was written {written}: "
-            f"{'; '.join(differences)}; delete it or point checkpoint= elsewhere"
+            f"{'; '.join(differences)}; delete it or point checkpoint= elsewhere",
+            changed,
         )
     return payload

@@ -49,6 +49,7 @@ from solvers.common import (
     ConvergenceError,
     DivergenceError,
     ProgressLine,
+    SolverError,
     check_fraction,
     check_held,
     check_integer,
@@ -262,6 +263,7 @@ class DynamicRelaxation:
         iterations: list[int] = []
         residuals: list[float] = []
         done = 0
+        earlier = 0.0  # s, the wall time of the increments before a resume
         settings = {
             "solver": "DynamicRelaxation",
             "increments": self.increments,
@@ -278,11 +280,21 @@ class DynamicRelaxation:
             state, frames, done = payload["state"], payload["frames"], payload["increment"]
             iterations, residuals = payload["iterations"], payload["residuals"]
             masses.estimates, masses.recoveries = payload["estimates"], payload["recoveries"]
+            # the wall time counts the increments before the stop too
+            earlier = payload.get("wall_time", 0.0)  # (absent from older checkpoints)
+            started -= earlier
         with ProgressLine(resolve_progress(self.progress), "dynamic relaxation") as progress:
-            return self._increments(
-                compiled, state, frames, first, done, iterations, residuals, masses, progress,
-                started, saved_at, signature, rounding,
-            )  # fmt: skip
+            try:
+                result = self._increments(
+                    compiled, state, frames, first, done, iterations, residuals, masses,
+                    progress, started, saved_at, signature, rounding,
+                )  # fmt: skip
+            except SolverError as error:
+                if error.result is not None:
+                    error.result.info["wall_time_before_resume"] = earlier
+                raise
+        result.info["wall_time_before_resume"] = earlier
+        return result
 
     def _increments(
         self,
@@ -346,6 +358,7 @@ class DynamicRelaxation:
                         "residuals": residuals,
                         "estimates": masses.estimates,
                         "recoveries": masses.recoveries,
+                        "wall_time": time.perf_counter() - started,
                     },
                 )
             progress(

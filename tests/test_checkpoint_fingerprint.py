@@ -8,6 +8,7 @@ import os
 import signal
 import subprocess
 import sys
+import time
 from pathlib import Path
 
 import numpy as np
@@ -16,7 +17,7 @@ import pytest
 import solvers.explicit
 from elements import Cable, RigidPlane
 from femcore import Mesh, Model
-from femcore.fingerprint import digest, fingerprint
+from femcore.fingerprint import Uncalled, digest, fingerprint
 from solvers import (
     CentralDifference,
     DynamicRelaxation,
@@ -304,3 +305,87 @@ def test_a_relaxation_stopped_and_resumed_ends_as_one_never_stopped(tmp_path, mo
     assert resumed.info["iterations_per_increment"] == reference.info["iterations_per_increment"]
     np.testing.assert_array_equal(resumed.positions, reference.positions)
     assert len(resumed.frames) == len(reference.frames) == 4
+
+
+PAUSE = 0.6  # s of wall time spent in the part of a run before its stop
+
+
+def test_an_explicit_run_resumed_counts_the_wall_time_before_its_stop(tmp_path, monkeypatch):
+    """A run that spent PAUSE seconds before its stop (at its 25th step, saved every 10):
+    the resumed result's wall time counts them, and says how much came before."""
+    original, calls = solvers.explicit.explicit_step, [0]
+
+    def slow_then_interrupted(*args, **kwargs):
+        calls[0] += 1
+        if calls[0] == 20:
+            time.sleep(PAUSE)
+        if calls[0] == 25:
+            os.kill(os.getpid(), signal.SIGINT)
+        return original(*args, **kwargs)
+
+    checkpoint = tmp_path / "run.ckpt"
+    with monkeypatch.context() as patch, interruptible():
+        patch.setattr(solvers.explicit, "explicit_step", slow_then_interrupted)
+        with pytest.raises(Interrupted) as stopped:
+            explicit().solve(cable(), checkpoint=checkpoint, checkpoint_interval=0.0)
+    resumed = explicit().solve(cable(), checkpoint=checkpoint, checkpoint_interval=0.0)
+    assert resumed.wall_time >= PAUSE
+    before = resumed.info["wall_time_before_resume"]
+    assert PAUSE <= before <= stopped.value.result.wall_time <= resumed.wall_time
+    assert explicit().solve(cable()).info["wall_time_before_resume"] == 0.0
+
+
+def test_a_relaxation_resumed_counts_the_wall_time_of_its_increments_before_the_stop(
+    tmp_path, monkeypatch
+):
+    checkpoint = tmp_path / "run.ckpt"
+    relax = DynamicRelaxation._relax
+
+    def slow_then_killed(self, model, state, load_factor, masses, progress, increment, *rest):
+        if increment == 2:
+            time.sleep(PAUSE)
+        if increment == 3:
+            raise KeyboardInterrupt
+        return relax(self, model, state, load_factor, masses, progress, increment, *rest)
+
+    monkeypatch.setattr(DynamicRelaxation, "_relax", slow_then_killed)
+    with pytest.raises(KeyboardInterrupt):
+        relaxation(increments=3).solve(cable(), checkpoint=checkpoint)
+    monkeypatch.setattr(DynamicRelaxation, "_relax", relax)
+    resumed = relaxation(increments=3).solve(cable(), checkpoint=checkpoint)
+    assert resumed.wall_time >= PAUSE
+    assert resumed.info["wall_time_before_resume"] >= PAUSE
+    assert resumed.wall_time >= resumed.info["wall_time_before_resume"]
+
+
+def sag_at(node: int):
+    """A frame summary whose code is the same for every node: only its captured value
+    differs."""
+    return lambda frame: {"time": frame.time, "sag": frame.positions[node, 2]}
+
+
+def test_a_checkpoint_of_another_frame_summary_is_refused(tmp_path):
+    """The rows kept before a stop were made by the checkpoint's frame_summary: a resume with
+    another (other columns, or the same columns of other nodes) would mix them."""
+    checkpoint = tmp_path / "run.ckpt"
+    explicit(frame_summary=sag_at(N // 2)).solve(cable(), checkpoint=checkpoint)
+    for other in (sag_at(N // 3), lambda frame: {"time": frame.time}, None):
+        with pytest.raises(ValueError, match=r"solver settings differ \(frame_summary\)"):
+            explicit(frame_summary=other).solve(cable(), checkpoint=checkpoint)
+    resumed = explicit(frame_summary=sag_at(N // 2)).solve(cable(), checkpoint=checkpoint)
+    assert len(resumed.info["frame_summaries"]) == 21
+
+
+def test_a_frame_summary_is_never_called_by_the_fingerprint():
+    """An amplitude is sampled at load factors; a frame summary (a function of a Frame) is
+    read, never called: a summary that keeps what it is given sees frames only."""
+    seen: list = []
+
+    def keeping(frame):
+        seen.append(frame)
+        return {}
+
+    compiled = cable().compile()
+    first = fingerprint(compiled, {"frame_summary": Uncalled(keeping)})
+    again = fingerprint(compiled, {"frame_summary": Uncalled(keeping)})
+    assert seen == [] and first == again

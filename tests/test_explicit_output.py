@@ -3,6 +3,7 @@ ParaView index, the histories as CSV rows, and checkpoints that a killed run res
 same final state, bit for bit, as a run never interrupted."""
 
 import textwrap
+import warnings
 from pathlib import Path
 from xml.etree import ElementTree
 
@@ -86,6 +87,22 @@ def test_a_frame_read_back_from_the_series_is_the_one_computed(streamed, in_memo
         rtol=1e-12,
         atol=1e-15,
     )
+
+
+def test_writing_a_streamed_result_says_it_holds_two_frames_and_where_every_one_is(
+    streamed, in_memory, tmp_path
+):
+    """A streamed result holds the first and the last frame; a series written from it gets
+    those two, and says so, naming the streamed series that holds every one."""
+    tmp, result = streamed
+    for name in ("again.xdmf", "again.pvd"):
+        with pytest.warns(UserWarning, match=r"the 2 frames this result holds of the 51 .*run.pvd"):
+            result.write(tmp_path / name)
+    assert result.info["streamed_frames"] == 51 and result.info["output"] == str(tmp / "run.pvd")
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        result.write(tmp_path / "last.vtu")  # one frame asked for: the last, as it is
+        in_memory.write(tmp_path / "every.xdmf")  # every frame in memory
 
 
 def test_the_history_has_a_row_per_energy_record(streamed):
@@ -209,7 +226,7 @@ def test_a_file_that_is_not_a_checkpoint_is_refused(tmp_path):
         CentralDifference(duration=1e-4, progress=False).solve(hanging_cable(), checkpoint=path)
 
 
-@pytest.mark.parametrize("older", [2, 3, 4, 5, 6, 7, 8])
+@pytest.mark.parametrize("older", [2, 3, 4, 5, 6, 7, 8, 9])
 def test_a_checkpoint_of_an_older_format_is_refused_naming_both_formats(tmp_path, older):
     """Format 2 recorded "internal" as the internal forces' work, friction included (format 3:
     the stored energy, docs/theory.md §6.1); format 3 anchored a tool contact's landing node
@@ -224,18 +241,19 @@ def test_a_checkpoint_of_an_older_format_is_refused_naming_both_formats(tmp_path
     such a point's anchor along T's normal where its gap's normal lay within TILT of T's plane,
     and re-expressed a sliding point's moved anchor along T's normal wherever nu . n <= 0.1, nu
     below T's plane included (format 9: the
-    continuous blend, the same rule for both, §9.3a): a run resumed from any would change the
-    meaning of its records or its friction midway, so it is refused, whole and checksummed as
-    it is."""
+    continuous blend, the same rule for both, §9.3a); format 9 knew a frame_summary only as
+    given or not (format 10: by what it is made of, so that the rows kept before a stop match
+    the rest): a run resumed from any would change the meaning of its records, its friction
+    or its rows midway, so it is refused, whole and checksummed as it is."""
     from solvers.output import CHECKPOINT_FORMAT, CHECKPOINT_MAGIC, save_checkpoint
 
-    assert CHECKPOINT_FORMAT == 9
+    assert CHECKPOINT_FORMAT == 10
     path = tmp_path / "run.ckpt"
     save_checkpoint(path, {"signature": "any"})
     data = path.read_bytes()
     header = f"fibreshell checkpoint {older}\n".encode()
     path.write_bytes(header + data[len(CHECKPOINT_MAGIC) :])
-    with pytest.raises(ValueError, match=f"checkpoint of format {older}, .* reads format 9"):
+    with pytest.raises(ValueError, match=f"checkpoint of format {older}, .* reads format 10"):
         CentralDifference(duration=1e-4, progress=False).solve(hanging_cable(), checkpoint=path)
 
 
@@ -287,18 +305,24 @@ def _diverging_with_history(history):
     )
 
 
-def test_a_diverged_run_leaves_every_history_row_it_recorded(tmp_path):
-    """The rows held in memory since the last frame are written when the run stops: the
-    history of a run that diverges before its first frame after the start holds a row per
-    energy record of its result."""
+def test_a_diverged_run_keeps_its_history_and_energy_records_to_its_last_good_state(tmp_path):
+    """The records of the steps after the last state that passed the checks are the
+    blow-up's (kinetic energy 7.9e3 times the work done): the result's energies and the
+    history end where the frames end, and the rows held in memory since the last frame are
+    written when the run stops (the run diverges before its first frame after the start, so
+    no frame flushed them): a row per energy record of the result."""
     from solvers import DivergenceError
 
     solver = _diverging_with_history(tmp_path / "run.csv")
     with pytest.raises(DivergenceError) as error:
         solver.solve(hanging_cable())
-    energies = error.value.result.energies
+    result = error.value.result
+    energies = result.energies
     rows = np.loadtxt(tmp_path / "run.csv", delimiter=",", skiprows=1, ndmin=2)
-    assert error.value.result.frames[-1].time < 0.01  # no frame flushed them
+    good = result.frames[-1].time
+    assert 0.0 < good < 0.01 and "the last state that passed the checks" in str(error.value)
+    assert energies["time"][-1] == good and rows[-1, 0] == good
+    assert all(len(values) == len(energies["time"]) for values in energies.values())
     assert len(rows) == len(energies["time"]) - 1 > 10
     np.testing.assert_array_equal(rows[:, 0], energies["time"][1:])
     np.testing.assert_array_equal(rows[:, 1], energies["kinetic"][1:])

@@ -25,7 +25,9 @@ import solvers.static
 import solvers.static_run
 from elements import Cable
 from femcore import Mesh, Model
+from femcore.fingerprint import Uncalled, digest
 from fibreshell.cli import main
+from fibreshell.run import FrameRows
 from solvers import CentralDifference, DynamicRelaxation, Interrupted, interruptible
 from solvers.interrupts import STOP
 
@@ -224,6 +226,62 @@ def test_fibreshell_run_interrupted_writes_its_outputs_says_one_line_and_resumes
     assert (tmp_path / "cut" / final).read_bytes() == (tmp_path / "whole" / final).read_bytes()
     summary = json.loads((tmp_path / "cut" / "summary.json").read_text())
     assert summary["status"] == "done"
+
+
+# How [output] history may change between a stop and a resume (the rectangle's "right" set is
+# its own; "tip" the case's).
+HISTORY_CHANGES = {
+    "a reactions set added": ('reactions = ["left"]', 'reactions = ["left", "right"]'),
+    "a reactions set removed": ('reactions = ["left"], ', ""),
+    "a set redefined under its name": ("tip = { x_min = 100.0 }", "tip = { x_min = 95.0 }"),
+}
+
+
+@pytest.fixture(scope="module")
+def interrupted_folder(tmp_path_factory) -> Path:
+    """The falling cantilever stopped by SIGTERM at its 200th step (checkpoint, 2 frames)."""
+    folder = tmp_path_factory.mktemp("history")
+    case = folder / "case.toml"
+    case.write_text(CASE)
+    with pytest.MonkeyPatch.context() as patch:
+        signal_on_call(patch, solvers.explicit, "explicit_step", 200, signal.SIGTERM)
+        assert run(case, folder / "cut") == 130
+    return folder / "cut"
+
+
+@pytest.mark.parametrize("change", HISTORY_CHANGES)
+def test_a_resume_after_the_history_sets_changed_is_refused_naming_them(
+    interrupted_folder, tmp_path, capsys, change
+):
+    """The rows kept before the stop carry the old sets' columns: the resume is refused
+    before it runs, naming [output] history, and leaves the folder as the stop left it."""
+    before = {p.name: p.read_bytes() for p in interrupted_folder.iterdir()}
+    old, new = HISTORY_CHANGES[change]
+    assert old in CASE
+    case = tmp_path / "case.toml"
+    case.write_text(CASE.replace(old, new))
+    capsys.readouterr()
+    assert run(case, interrupted_folder, "--resume") == 2
+    said = capsys.readouterr().err
+    assert "[output.history]: changed since the checkpoint was written" in said
+    assert "run without --resume" in said
+    assert {p.name: p.read_bytes() for p in interrupted_folder.iterdir()} == before
+
+
+def test_the_rows_of_a_frame_are_known_by_their_sets_names_and_nodes():
+    """What a checkpoint reads of fibreshell's frame summary (FrameRows): a reactions set
+    redefined under its name (other nodes, the energy records' nodes unchanged) is another."""
+    origins = np.zeros((1, 3))
+    rows = [
+        FrameRows(reactions=(("left", np.array(nodes)),), displacements=(("tip", [9], origins),))
+        for nodes in ([0, 1], [0, 1], [0, 2])
+    ]
+    first, same, other = (digest(Uncalled(r)) for r in rows)
+    assert first == same != other
+    renamed = FrameRows(
+        reactions=(("held", np.array([0, 1])),), displacements=rows[0].displacements
+    )
+    assert digest(Uncalled(renamed)) != first
 
 
 def test_an_interrupted_static_run_keeps_its_converged_increments(tmp_path, monkeypatch, capsys):

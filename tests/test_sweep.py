@@ -362,6 +362,26 @@ def test_an_error_escaping_a_variant_in_process_is_its_row_as_on_a_cluster(monke
     assert table.rows[0]["converged"] and table.rows[2]["converged"]
 
 
+def test_a_sweep_stopped_by_ctrl_c_says_which_variants_did_not_end(monkeypatch, tmp_path):
+    """Ctrl-C during the second variant: sweep.csv holds the first variant's row, and the
+    rows of the others say they were interrupted (before: blank converged and error cells);
+    the interrupt goes on up (``fibreshell sweep`` exits 130)."""
+
+    def run(data, path, overrides, folder):
+        if overrides["part.0.material.bending"] == 20.0:
+            raise KeyboardInterrupt
+        return {"converged": True, "error": "", "wall_time_s": 1.0}, None
+
+    monkeypatch.setattr(sweep_module, "run_variant", run)
+    vary = {"part.0.material.bending": [10.0, 20.0, 30.0]}
+    with pytest.raises(KeyboardInterrupt):
+        sweep(cantilever(), vary, out=tmp_path, in_process=True, progress=False)
+    with open(tmp_path / "sweep.csv") as handle:
+        rows = list(csv.DictReader(handle))
+    said = [(row["converged"], row["error"].split(":")[0]) for row in rows]
+    assert said == [("True", ""), ("False", "interrupted"), ("False", "interrupted")]
+
+
 @pytest.mark.waits  # on a LocalCluster
 def test_a_dead_worker_is_a_failed_task_not_a_lost_map():
     import dask
