@@ -29,8 +29,9 @@ uz = -10.0
 [gravity]
 acceleration = [0.0, 0.0, -9810.0]
 [[contact]]                              # a rigid tool the shell may touch (elements.tools)
-tool = "sphere"                          # "plane" | "sphere" | "cylinder" | "surface"
-centre = [0.0, 0.0, -50.0]               # plane: point, normal; sphere: centre, radius;
+tool = "sphere"                          # "plane" | "annulus" | "sphere" | "cylinder" |
+centre = [0.0, 0.0, -50.0]               # "surface"; plane: point, normal; annulus: point,
+# normal, inner (the bore's radius: a holder's or a die flange's face); sphere: centre, radius;
 radius = 50.0                            # cylinder: point, axis, radius; surface: file, flip
 side = "outside"                         # sphere and cylinder: "outside" | "inside"
 motion = [0.0, 0.0, 20.0]                # optional translation at the end, with amplitude
@@ -97,6 +98,7 @@ from elements import (
     FibreBending,
     FibrousShell,
     Grip,
+    RigidAnnulus,
     RigidCylinder,
     RigidPlane,
     RigidSphere,
@@ -120,11 +122,12 @@ SOLVERS = {"static": Static, "relaxation": DynamicRelaxation, "explicit": Centra
 _SOLVER_RESERVED = {"self", "output", "history", "history_nodes", "progress"}
 _TOP = ("title", "mesh", "sets", "part", "layup", "fix", "displace", "force", "moment",
         "gravity", "contact", "grip", "fibre_bending", "solver", "output")  # fmt: skip
-TOOLS = {"plane": RigidPlane, "sphere": RigidSphere, "cylinder": RigidCylinder,
-         "surface": RigidSurface}  # fmt: skip
+TOOLS = {"plane": RigidPlane, "annulus": RigidAnnulus, "sphere": RigidSphere,
+         "cylinder": RigidCylinder, "surface": RigidSurface}  # fmt: skip
 # The geometry keys of each tool (its constructor's arguments, the mesh file for a surface).
 _TOOL_KEYS = {
     "plane": ("point", "normal"),
+    "annulus": ("point", "normal", "inner"),
     "sphere": ("centre", "radius", "side"),
     "cylinder": ("point", "axis", "radius", "side"),
     "surface": ("file", "flip", "search_distance"),
@@ -583,7 +586,7 @@ def _contact(where: _Where, mesh: Mesh, value: dict, folder: Path) -> dict:
         item = value[key]
         if key in ("point", "normal", "centre", "axis", "motion", "force"):
             options[key] = _vector(where, item, key)
-        elif key in ("radius", "search_distance"):
+        elif key in ("radius", "search_distance", "inner"):
             options[key] = _number(where, item, key)
         elif key == "file":
             if not isinstance(item, str):
