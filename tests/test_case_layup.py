@@ -144,7 +144,10 @@ def test_a_two_ply_runs_outputs_hold_each_plys_fields(built):
 
 
 def test_selectors_name_every_plys_nodes_and_ply_k_one_plys():
-    case = case_from_data(pullout_data(), PULLOUT)
+    data = pullout_data()
+    data["sets"] = {"lowest": {"z_max": "0%"}}  # a share of the stack's height: the bottom ply
+    case = case_from_data(data, PULLOUT)
+    assert np.array_equal(case.node_sets["lowest"], case.layup.ply_nodes[0])
     mesh = case.mesh
     right = mesh.nodes("right")
     assert np.array_equal(right, np.union1d(mesh.nodes("ply_1_right"), mesh.nodes("ply_2_right")))
@@ -350,3 +353,16 @@ def test_an_annulus_contact_table_builds_the_ring_of_its_python_twin():
     data["contact"][0]["radius"] = 11.0
     with pytest.raises(CaseError, match=r"\[contact\[0\].radius\]: unknown key"):
         case_from_data(data, FORMING)
+
+
+def test_a_sweep_varies_the_plies_friction_and_angles_as_any_key():
+    """``fibreshell sweep --vary layup.friction=...``: the dotted key reaches [layup]."""
+    from fibreshell.sweep import apply_overrides
+
+    data, _ = apply_overrides(
+        read_case_data(PULLOUT), {"layup.friction": 0.4, "layup.angles": [90.0, 0.0]}
+    )
+    case = case_from_data(data, PULLOUT)
+    assert case.layup.friction == 0.4
+    assert list(case.layup.angles) == [90.0, 0.0]
+    assert [i.friction for i in case.model().interactions[:1]] == [0.4]
