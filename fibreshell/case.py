@@ -16,6 +16,10 @@ tip = { x_min = "100%" }                 # units, or "P%" of the mesh's extent o
 element = "fibrous"                      # "fibrous" | "mindlin" | "cable" | a registered name
 material = "g1151_laminate"              # a preset name (registered), or an inline table
 options = { clamped = "left" }           # keyword options of the element class
+# [layup]                                # optional: the part's fabric as plies on the
+# angles = [0.0, 90.0], friction = 0.2   # rectangle, each along its own fibres, in contact
+#                                        # (fibreshell/case_layup.py); selectors then name
+#                                        # every ply's nodes, "ply_k" one ply's
 [[fix]]
 nodes = "left"                           # a node-set name, or { x_max = 0.0 } style bounds
 dofs = ["ux", "uy", "uz", "alpha", "beta"]   # optional: every DOF by default
@@ -25,8 +29,9 @@ uz = -10.0
 [gravity]
 acceleration = [0.0, 0.0, -9810.0]
 [[contact]]                              # a rigid tool the shell may touch (elements.tools)
-tool = "sphere"                          # "plane" | "sphere" | "cylinder" | "surface"
-centre = [0.0, 0.0, -50.0]               # plane: point, normal; sphere: centre, radius;
+tool = "sphere"                          # "plane" | "annulus" | "sphere" | "cylinder" |
+centre = [0.0, 0.0, -50.0]               # "surface"; plane: point, normal; annulus: point,
+# normal, inner (the bore's radius: a holder's or a die flange's face); sphere: centre, radius;
 radius = 50.0                            # cylinder: point, axis, radius; surface: file, flip
 side = "outside"                         # sphere and cylinder: "outside" | "inside"
 motion = [0.0, 0.0, 20.0]                # optional translation at the end, with amplitude
@@ -82,6 +87,7 @@ from __future__ import annotations
 import re
 import tomllib
 import warnings
+from contextlib import contextmanager
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -92,13 +98,16 @@ from elements import (
     FibreBending,
     FibrousShell,
     Grip,
+    RigidAnnulus,
     RigidCylinder,
     RigidPlane,
     RigidSphere,
     RigidSurface,
 )
+from elements.layup import Layup
 from femcore import Mesh, Model
 from fibreshell import registry
+from fibreshell.case_layup import layup_for, read_layup
 from fibreshell.case_materials import _material, _user_element
 from fibreshell.case_model import LocatedModel
 from fibreshell.case_reading import CaseError, _keywords, _number, _table, _vector, _Where
@@ -111,13 +120,14 @@ __all__ = ["Case", "CaseError", "case_from_data", "load_case", "read_case_data"]
 SOLVERS = {"static": Static, "relaxation": DynamicRelaxation, "explicit": CentralDifference}
 # Solver options the case file does not take: the outputs are the command's.
 _SOLVER_RESERVED = {"self", "output", "history", "history_nodes", "progress"}
-_TOP = ("title", "mesh", "sets", "part", "fix", "displace", "force", "moment", "gravity",
-        "contact", "grip", "fibre_bending", "solver", "output")  # fmt: skip
-TOOLS = {"plane": RigidPlane, "sphere": RigidSphere, "cylinder": RigidCylinder,
-         "surface": RigidSurface}  # fmt: skip
+_TOP = ("title", "mesh", "sets", "part", "layup", "fix", "displace", "force", "moment",
+        "gravity", "contact", "grip", "fibre_bending", "solver", "output")  # fmt: skip
+TOOLS = {"plane": RigidPlane, "annulus": RigidAnnulus, "sphere": RigidSphere,
+         "cylinder": RigidCylinder, "surface": RigidSurface}  # fmt: skip
 # The geometry keys of each tool (its constructor's arguments, the mesh file for a surface).
 _TOOL_KEYS = {
     "plane": ("point", "normal"),
+    "annulus": ("point", "normal", "inner"),
     "sphere": ("centre", "radius", "side"),
     "cylinder": ("point", "axis", "radius", "side"),
     "surface": ("file", "flip", "search_distance"),
@@ -139,7 +149,7 @@ class Case:
     title : str
         Its title (the file name without suffix by default).
     mesh : femcore.Mesh
-        With the ``[sets]`` node sets added.
+        With the ``[sets]`` node sets added; with a ``[layup]``, the layup's mesh (every ply).
     parts, fixes, displacements, forces, moments : list of dict
         The ``[[part]]`` ... tables, checked (node selections resolved to node ids).
     gravity : dict or None
@@ -160,6 +170,9 @@ class Case:
         {"reactions": [set names], "displacements": [set names]}.
     paths : dict
         name -> node ids along the path, ordered along its longest extent.
+    layup : elements.layup.Layup or None
+        The ``[layup]``'s plies of the part's fabric (fibreshell/case_layup.py); the model is
+        then its plies and their contacts in place of the parts, None without it.
     """
 
     path: Path
@@ -178,23 +191,31 @@ class Case:
     history: dict = field(default_factory=dict)
     paths: dict = field(default_factory=dict)
     node_sets: dict = field(default_factory=dict)
+    layup: Layup | None = None
 
     # ------------------------------------------------------------------ building
     def model(self, kinematics: str | None = None, calibration=None) -> Model:
         """The model of the case, compiled. ``kinematics="mindlin"`` replaces every fibrous part
         by the Mindlin shell of ``calibration`` (a ``fibreshell.calibration.Calibration`` or its
         name; None: "laws", the fabric's own laws) on the same cells; None or "fibrous" builds
-        the case as written. Raises CaseError (a ValueError) naming the file, the table and
-        the key of an entry that cannot be built or compiled (an unknown cell set, a part on
-        cells another part covers, a moment on nodes only fibrous cells use, ...)."""
+        the case as written; a ``[layup]``'s fibrous plies so become Mindlin plies
+        (fibreshell.case_layup.layup_for). Raises CaseError (a ValueError) naming the file,
+        the table and the key of an entry that cannot be built or compiled (an unknown cell
+        set, a part on cells another part covers, a moment on nodes only fibrous cells use,
+        ...)."""
         from fibreshell.calibration import Calibration
 
         if kinematics not in (None, "fibrous", "mindlin"):
             raise ValueError(f"kinematics must be 'fibrous' or 'mindlin', got {kinematics!r}")
         rule = Calibration.from_options(calibration)
-        located = LocatedModel(Model(self.mesh))
         top = _Where(self.path, "")
-        for i, part in enumerate(self.parts):
+        if self.layup is not None:  # the plies' shells and contacts, written by [layup]
+            with _raised_at(top.child("layup")):
+                plies = layup_for(self.layup, kinematics, rule).model()
+            located = LocatedModel(plies, top.child("layup"))
+        else:
+            located = LocatedModel(Model(self.mesh))
+        for i, part in enumerate(self.parts if self.layup is None else ()):
             element = part["element"]
             if kinematics == "mindlin" and isinstance(element, FibrousShell):
                 element = rule.mindlin(element)
@@ -243,7 +264,20 @@ class Case:
 
     @property
     def has_fibrous(self) -> bool:
+        if self.layup is not None:
+            return isinstance(self.layup.element(1), FibrousShell)
         return any(isinstance(part["element"], FibrousShell) for part in self.parts)
+
+
+@contextmanager
+def _raised_at(where: _Where):
+    """A ValueError raised inside as a CaseError at ``where``."""
+    try:
+        yield
+    except CaseError:
+        raise
+    except ValueError as error:
+        raise where.error(None, str(error)) from None
 
 
 # ---------------------------------------------------------------------- reading
@@ -296,6 +330,10 @@ def case_from_data(data: dict, path: str | Path) -> Case:
         raise top.error("title", f"expected a string, got {title!r}")
     mesh = _mesh(top, data["mesh"], path.parent)
     case = Case(path=path, title=title, mesh=mesh)
+    case.parts = [_part(top.child(f"part[{i}]"), p) for i, p in enumerate(_list(top, data, "part"))]
+    if "layup" in data:  # the plies' mesh is the case's: every selector below names its nodes
+        case.layup = read_layup(top, data, case.parts)
+        mesh = case.mesh = case.layup.mesh
     for name, bounds in _table(
         top, data.get("sets", {}), "sets", tuple(data.get("sets", {}))
     ).items():
@@ -305,7 +343,6 @@ def case_from_data(data: dict, path: str | Path) -> Case:
             mesh.add_node_set(name, ids)
         except ValueError as error:  # a name the mesh already has ("left", ...)
             raise top.child("sets").error(name, f"{error}: give this set another name") from None
-    case.parts = [_part(top.child(f"part[{i}]"), p) for i, p in enumerate(_list(top, data, "part"))]
     case.fixes = [
         _fix(top.child(f"fix[{i}]"), mesh, f) for i, f in enumerate(_list(top, data, "fix"))
     ]
@@ -495,7 +532,7 @@ def _part(where: _Where, value: dict) -> dict:
     cells = value.get("cells")
     if cells is not None and not isinstance(cells, str):
         raise where.error("cells", f"expected a cell-set name, got {cells!r}")
-    return {"kind": kind, "element": element, "cells": cells}
+    return {"kind": kind, "element": element, "cells": cells, "options": dict(options)}
 
 
 def _fix(where: _Where, mesh: Mesh, value: dict) -> dict:
@@ -549,7 +586,7 @@ def _contact(where: _Where, mesh: Mesh, value: dict, folder: Path) -> dict:
         item = value[key]
         if key in ("point", "normal", "centre", "axis", "motion", "force"):
             options[key] = _vector(where, item, key)
-        elif key in ("radius", "search_distance"):
+        elif key in ("radius", "search_distance", "inner"):
             options[key] = _number(where, item, key)
         elif key == "file":
             if not isinstance(item, str):

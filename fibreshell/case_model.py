@@ -23,12 +23,16 @@ class LocatedModel:
     becomes a CaseError at ``where`` (and ``key``), and the entries added there are noted as
     written at ``where``. ``compile()`` compiles the model; a ``femcore.entry_error.EntryError``
     becomes a CaseError at the table of the entry it names, and an ``EntryWarning`` (a body
-    that starts overlapping a tool) a UserWarning that names that table.
+    that starts overlapping a tool) a UserWarning that names that table. The entries
+    ``model`` holds when given are noted as written at ``written_at`` (None: nowhere).
     """
 
-    def __init__(self, model: Model) -> None:
+    def __init__(self, model: Model, written_at: _Where | None = None) -> None:
         self.model = model
         self.places: dict[str, list[_Where]] = {kind: [] for kind in ENTRY_LISTS}
+        if written_at is not None:  # the entries ``model`` has already (a layup's plies)
+            for kind, name in ENTRY_LISTS.items():
+                self.places[kind] = [written_at] * len(getattr(model, name))
 
     @contextmanager
     def at(self, where: _Where, key: str | None = None) -> Iterator[Model]:

@@ -51,9 +51,14 @@ def ply_stack(
     Raises
     ------
     ValueError
-        Not one fibrous part, no count given for a fabric without a ply count, tools, an
-        unknown ``static_law`` (``elements.ply_active_set.LAWS``).
+        A case with a ``[layup]``, not one fibrous part, no count given for a fabric without
+        a ply count, tools, an unknown ``static_law`` (``elements.ply_active_set.LAWS``).
     """
+    if case.layup is not None:
+        raise ValueError(
+            f"{case.path}: the plies kinematics splits one fibrous part into plies; this case's "
+            "[layup] is plies already: compare fibrous and mindlin on it"
+        )
     element = _fibrous_part(case)
     fabric = element.fabric
     if count is None:

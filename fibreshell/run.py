@@ -18,6 +18,7 @@ from femcore.results import Frame, Result
 from femcore.writable import FIRST_FRAMES, OutputError, check_folder, frame_bytes, series_frames
 from fibreshell.case import Case
 from fibreshell.case_reading import _Where
+from fibreshell.layup_summary import layup_summary
 from fibreshell.outputs import checkpoint_collision, clean_run
 from solvers import Interrupted, SolverError
 from solvers.common import SettingError
@@ -402,7 +403,8 @@ def profile(case: Case, result: Result, name: str, thickness: float) -> dict:
 def summarise(case: Case, result: Result, kinematics: str, error: str, wall: float) -> dict:
     """The numbers of a run for summary.json: how it ended, the history sets at the final
     frame, the force on each rigid tool, the largest fibre strain and director tilt where the
-    element reports them, the profiles along the paths, and for an explicit run
+    element reports them, the profiles along the paths, a ``[layup]``'s per-ply numbers
+    (``layup``: fibreshell.layup_summary), and for an explicit run
     ``quasi_static``: its kinetic energy over external work with the mass and time scaling
     (solvers/quasi_static.py, ``QuasiStaticWatch.report``)."""
     final = result.frames[-1]
@@ -445,6 +447,8 @@ def summarise(case: Case, result: Result, kinematics: str, error: str, wall: flo
     if "director_tilt_deg" in final.fields.get("point", {}):
         tilt = final.fields["point"]["director_tilt_deg"]
         out["director_tilt_deg"] = {"min": float(np.nanmin(tilt)), "max": float(np.nanmax(tilt))}
+    if case.layup is not None:  # per ply: angle, shear, displacement, slip over the one below
+        out["layup"] = layup_summary(case.layup, case.mesh.points, final)
     thickness = section_thickness(case)
     out["paths"] = {
         name: {

@@ -1,0 +1,79 @@
+"""The per-ply numbers of a ``[layup]`` run for summary.json (fibreshell/case_layup.py): each
+ply's angle, shear and mean displacement, and the slip of each ply over the one below, as a
+Python run of ``elements.layup.Layup`` measures them (``Layup.shear``, the ply contacts'
+``ply_slip`` field, elements/ply_slip.py)."""
+
+from __future__ import annotations
+
+import re
+from typing import Any
+
+import numpy as np
+
+from elements.layup import Layup
+from elements.ply_slip import slip_summary
+from femcore.results import Frame
+
+__all__ = ["layup_summary", "ply_slip_fields"]
+
+_SLIP = re.compile(r"ply_slip(?:_(\d+))?")
+
+
+def ply_slip_fields(point_fields: dict[str, np.ndarray]) -> list[str]:
+    """The names of the ``ply_slip`` node fields of a frame, one per ply contact in the order
+    of the contacts ("ply_slip", "ply_slip_2", ...: ply 2 on ply 1 first; femcore.compiled
+    ``fields`` numbers a name the second part gives again)."""
+    found = [(int(m.group(1) or 1), name) for name in point_fields
+             if (m := _SLIP.fullmatch(name))]  # fmt: skip
+    return [name for _, name in sorted(found)]
+
+
+def layup_summary(layup: Layup, reference: np.ndarray, frame: Frame) -> dict[str, Any]:
+    """The layup's numbers at ``frame``.
+
+    Parameters
+    ----------
+    layup : Layup
+    reference : (n, 3) float
+        The layup's reference positions, mm.
+    frame : femcore.results.Frame
+        With its node fields (the ply contacts' ``ply_slip``).
+
+    Returns
+    -------
+    dict
+        ``angles_deg``; ``friction`` (ply on ply); ``plies``: per "ply_k" (1 = bottom) its
+        ``angle_deg``, ``warp`` (3,), ``shear_deg`` {min, max, rms} of its fibre-aligned
+        triangles (``Layup.shear``: 90 deg less the angle between the deformed warp and weft,
+        the pin-jointed net's sign), ``mean_displacement`` (3,) mm; ``slip``: per upper ply
+        "ply_k" (k >= 2) the ``ply_slip`` over ply k - 1 since the start {max_mm, rms_mm,
+        nodes} (``elements.ply_slip.slip_summary``; nodes with no ply below left out).
+    """
+    shear = layup.shear(frame.positions)
+    plies = {}
+    for k, (angle, warp, nodes, gamma) in enumerate(
+        zip(layup.angles, layup.warps, layup.ply_nodes, shear), start=1
+    ):
+        degrees = np.degrees(gamma)
+        plies[f"ply_{k}"] = {
+            "angle_deg": float(angle),
+            "warp": warp,
+            "shear_deg": {
+                "min": float(np.min(degrees)),
+                "max": float(np.max(degrees)),
+                "rms": float(np.sqrt(np.mean(degrees**2))),
+            },
+            "mean_displacement": (frame.positions[nodes] - reference[nodes]).mean(axis=0),
+        }
+    point = frame.fields.get("point", {})
+    names = ply_slip_fields(point)
+    slip = {
+        f"ply_{k}": slip_summary(point[name][layup.ply_nodes[k - 1]])
+        for k, name in zip(range(2, layup.count + 1), names)
+    }
+    return {
+        "angles_deg": layup.angles,
+        "friction": layup.friction,
+        "plies": plies,
+        "slip": slip,
+    }
