@@ -13,6 +13,8 @@ from types import SimpleNamespace
 import numpy as np
 import pytest
 
+from elements import Cable
+from femcore import Mesh, Model
 from femcore.capability_checks import check_element_capabilities, check_interaction_capabilities
 from femcore.element import ElementBlock
 from femcore.interaction import FacetRecord
@@ -21,6 +23,7 @@ from solvers.newton_fibres import fibre_edges
 from solvers.penalty_start import softened
 from solvers.stop_diagnosis import crossing_cycles
 from tests.conformance_cases import CABLE
+from tests.test_custom_interaction import PlaneContact, PlaneContactBlock
 from tests.test_interaction_conformance import floor
 
 
@@ -194,3 +197,34 @@ def test_the_element_kit_names_a_declaration_the_solvers_would_misread(members, 
     _user(block, **members)
     with pytest.raises(AssertionError, match=message):
         check_element_capabilities(block, reference, deformed)
+
+
+@pytest.mark.parametrize(
+    "members, message",
+    [
+        ({"friction": "0.3"}, "friction is '0.3': expected a finite number >= 0"),
+        ({"friction": np.nan}, "friction is nan"),
+        ({"unilateral_fallback": None}, "unilateral_fallback is None: expected True or False"),
+        ({"opening_law": "Ramp"}, "opening_law is 'Ramp': expected one of"),
+    ],
+)
+def test_an_interactions_capability_of_the_wrong_type_is_refused_at_compile(members, message):
+    """Bad input at the API boundary: the model refuses it before any solver reads it."""
+    model = Model(Mesh.line([0.0, 0.0, 0.0], [10.0, 0.0, 0.0], 2))
+    model.add(Cable(axial_stiffness=1e3, mass_per_length=1e-6))
+    floor_type = type("UserFloor", (PlaneContactBlock,), members)
+    model.interact(type("UserPlane", (PlaneContact,), {"block_class": floor_type})("end", 10.0))
+    with pytest.raises(ValueError, match=message):
+        model.compile()
+
+
+def test_an_elements_capability_flag_of_the_wrong_type_is_refused_at_compile():
+    class FlaggedCable(Cable):
+        def bind(self, mesh, cell_ids, directors):
+            block = super().bind(mesh, cell_ids, directors)
+            return _user(block, has_fibre_strains="yes")
+
+    model = Model(Mesh.line([0.0, 0.0, 0.0], [10.0, 0.0, 0.0], 2))
+    model.add(FlaggedCable(axial_stiffness=1e3, mass_per_length=1e-6))
+    with pytest.raises(ValueError, match="has_fibre_strains is 'yes': expected True or False"):
+        model.compile()
