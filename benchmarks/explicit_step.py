@@ -291,7 +291,7 @@ and director arrays, it branches on ``nodal``, so the increfs and decrefs of its
 were not pruned), the rest from the array arguments of the level lanes, 26 a level of a chunk
 of 32 cells. The corners' frames now read in the pass itself (cell_terms.py
 ``element_corner`` for the element normal, scalars only) and the lanes compiled without
-reference counting (elements/jit.py ``lane_rows``): 7 a chunk are left. Paired in one process
+reference counting (femcore/jit.py ``lane_rows``): 7 a chunk are left. Paired in one process
 (benchmarks/kernel_pairs.py, 100k, 8 rounds, the same bits each time): the frames, force
 0.798 of main cfaff59's (best 0.311 -> 0.247 µs a cell, load 4.0), force+energy 0.821; the
 lanes on top, force 0.962, force+energy 0.972, energy 0.939 (load 5.5). Outside the force,
@@ -321,10 +321,10 @@ compiled work.
 
 Threads: ``--threads 1`` (default) or any count numba may use; the machine's load average is
 printed with the figures. On several threads every loop runs on all of them whatever the load
-(``elements.jit.FOLLOW_LOAD`` off), the loops first called on a sheet above ``SMALL_LOOP``
+(``femcore.jit.FOLLOW_LOAD`` off), the loops first called on a sheet above ``SMALL_LOOP``
 (before, the shorter timed run paid the parallel builds' first call, and the steady step came
 out negative: -2.9 µs at 100k on two threads).
-With the parallel builds as parts of the plain build (elements/jit.py), 100k triangles, one
+With the parallel builds as parts of the plain build (femcore/jit.py), 100k triangles, one
 process per line, one and two threads in turns, one other run beside them (load 2.0-2.8), µs an
 element-step (steady wall; whole run of 100 steps wall): fibrous one thread 0.518, 0.473,
 0.480, 0.568 (0.45-0.49); two threads 0.231 (0.297), 1.171 (0.691), 1.093 (0.911), -0.204
@@ -542,7 +542,7 @@ def main(argv=None) -> None:
         f"({args.kernel}), {numba.get_num_threads()} thread(s), load average "
         f"{os.getloadavg()[0]:.2f}"
     )
-    from elements import jit
+    from femcore import jit
 
     # On several threads every loop runs on all of them whatever the load (the free-core
     # count would pick one on a busy machine), and the loops are first called on a sheet

@@ -312,9 +312,9 @@ def steady_step(triangles: int, steps: int) -> float:
 
 def serial_share(triangles: int, steps: int) -> float:
     """The share of a step's CPU time, on one thread, spent outside the parallel loops of
-    elements.jit (Python, numpy, the serial compiled loops): what a second thread cannot
+    femcore.jit (Python, numpy, the serial compiled loops): what a second thread cannot
     shorten (Amdahl)."""
-    from elements import jit
+    from femcore import jit
 
     compiled = _sheet(triangles)
     inside = [0.0]
@@ -341,11 +341,11 @@ def serial_share(triangles: int, steps: int) -> float:
 
 def thread_scaling(triangles: int, steps: int, repeats: int) -> dict:
     """Wall seconds of ``steps`` explicit steps and of each pass of the force on 1 and on 2
-    threads (every parallel loop on them: elements.jit.FOLLOW_LOAD off), taken in turns,
+    threads (every parallel loop on them: femcore.jit.FOLLOW_LOAD off), taken in turns,
     best of ``repeats``."""
     import numba
 
-    from elements import jit
+    from femcore import jit
 
     compiled = _sheet(triangles)
     start = _start(compiled)

@@ -30,7 +30,7 @@ of the array arguments of its helpers at every node (atomic increments: ``_squar
 
 The cuts (each the same bits; the digest and the case's results.json compared):
 
-* the helpers without reference counting (elements/jit.py ``lane_rows``);
+* the helpers without reference counting (femcore/jit.py ``lane_rows``);
 * each node's kept facet's and short-listed facets' corners and normal copied into rows in
   the nodes' order (written with the rooms that allow reading them), read by the kernel and
   by the pass of the forces (elements/tool_contact.py) instead of the die's arrays.

@@ -7,7 +7,7 @@ is pressed by the rigid spherical punch into the meshed die (elements.RigidSurfa
 element's force, the contact blocks' forces, a reference pass over the same nodes: one norm
 per node), then per run (``--mass-scaling-dt``, a list: "none" for the model's own masses) the
 wall and CPU time, the machine's load before and after (/proc/loadavg: the machine may be
-shared), the threads (elements/jit.py), the steps, ms per step and its ratio to the
+shared), the threads (femcore/jit.py), the steps, ms per step and its ratio to the
 reference pass, the step size, the mass scaling asked and the mass it added, and the kinetic
 energy at the end over the work done (a quasi-static run keeps it small). ``--fraction`` stops
 each run at that fraction of the stroke's time (its figures: those of the steps done).
@@ -22,7 +22,7 @@ ratio to the cells' bound of the model's own masses, and each run prints its mea
 whole stroke projected at that pace. Beside each phase's CPU, the main thread's
 (``time.thread_time``): a phase split evenly over two threads shows half its CPU there, a
 serial one all of it, a measure the machine's load does not blur as it blurs the wall time.
-``--threads`` forces a thread count (numba's setting, elements/jit.py's FOLLOW_LOAD off;
+``--threads`` forces a thread count (numba's setting, femcore/jit.py's FOLLOW_LOAD off;
 default: the free cores, which at the loads below chose one).
 
 Subnormal numbers, measured at 20k triangles on the first 0.3 % of the stroke (402 steps of
@@ -186,7 +186,7 @@ first run in a fresh worktree, 670 steps, load 6.4 -> 5.9: element 21.9, die 6.2
 s of CPU; warm, an evaluation takes 1.35 s of CPU at load 8.2.)
 
 Threads: at the loads of these measurements (4-9 on 2 cores) the default threads chose one (free
-cores: elements/jit.py). Two forced on the element force at 20k (the starting state, 30 calls
+cores: femcore/jit.py). Two forced on the element force at 20k (the starting state, 30 calls
 a round, one thread then two, three rounds, load 7.8-7.9, the quietest load seen):
 median wall 34.8 / 33.6 / 34.3 ms on one thread against 29.2 / 29.6 / 33.0 on two (1.04-1.19
 times as fast); again at load 4.8: 26.0 / 25.0 / 26.4 against 24.0 / 21.8 / 22.9 (1.08-1.15;
@@ -204,7 +204,7 @@ and totals compiled (elements/node_rows.py), the velocity and rotation updates o
 thread (the default chose one at these loads), main fdcebfd and after in turns, twice, CPU
 ms a step (load 6.1-6.6, 7.1-7.6, 9.0-9.8, 10.4-10.9): the step 12.93 / 13.27 -> 12.18 /
 12.99; the punch and holder 0.96 / 1.04 -> 0.51 / 0.56; the die 1.66 / 1.71 -> 1.51 / 1.64;
-the nodal update 0.64 / 0.65 -> 0.69 / 0.73 (before its index was unsigned: elements/jit.py
+the nodal update 0.64 / 0.65 -> 0.69 / 0.73 (before its index was unsigned: femcore/jit.py
 ``unsigned``); the element force 7.88 / 8.01 -> 7.74 / 8.20 (unchanged code). On two threads
 forced the main thread's share was not measured at 20k; at 100k see benchmarks/threads.py.
 
@@ -385,8 +385,9 @@ os.environ.setdefault("FIBRESHELL_PROGRESS", "0")
 
 from contact_search import best  # noqa: E402
 
-from elements import RigidSurface, jit  # noqa: E402
+from elements import RigidSurface  # noqa: E402
 from elements import rigid_surface as tools  # noqa: E402
+from femcore import jit  # noqa: E402
 from solvers import CentralDifference  # noqa: E402
 from solvers import step as step_module  # noqa: E402
 from validation.cases import hemisphere_forming as case  # noqa: E402
@@ -426,8 +427,8 @@ def main() -> None:
         "--threads",
         type=int,
         default=0,
-        help="the threads forced (numba's setting, elements/jit.py's FOLLOW_LOAD off); 0: "
-        "elements/jit.py's choice (the free cores)",
+        help="the threads forced (numba's setting, femcore/jit.py's FOLLOW_LOAD off); 0: "
+        "femcore/jit.py's choice (the free cores)",
     )
     args = parser.parse_args()
     if args.threads:

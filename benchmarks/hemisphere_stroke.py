@@ -65,8 +65,8 @@ from contact_search import best  # noqa: E402
 from hemisphere_forming import Phases, load  # noqa: E402
 
 import solvers.explicit as explicit  # noqa: E402
-from elements import jit  # noqa: E402
 from elements import rigid_surface as surfaces  # noqa: E402
+from femcore import jit  # noqa: E402
 from solvers import CentralDifference  # noqa: E402
 from solvers.step import LumpedMasses  # noqa: E402
 from validation.cases import hemisphere_forming as case  # noqa: E402

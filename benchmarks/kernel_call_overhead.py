@@ -1,4 +1,4 @@
-"""What ``elements.jit``'s wrapper adds to a compiled loop's call on one thread: a loop
+"""What ``femcore.jit``'s wrapper adds to a compiled loop's call on one thread: a loop
 below ``SMALL_LOOP`` items (every loop of the two-ply hemisphere's step, some fifty calls a
 step) runs on one thread whatever numba's setting, so the wrapper no longer reads the
 setting there (``_Parallel.__call__``); the reference pass reads it first, as the wrapper
@@ -24,8 +24,8 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # run from anywhere, no install
 
-from elements import jit as jit_module  # noqa: E402
-from elements.jit import jit, prange  # noqa: E402
+from femcore import jit as jit_module  # noqa: E402
+from femcore.jit import jit, prange  # noqa: E402
 
 REPEATS, CALLS = 7, 20000
 

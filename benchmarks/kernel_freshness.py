@@ -82,7 +82,10 @@ print(time.process_time() - start)
 DIGESTS = """
 import hashlib, importlib, pkgutil, time
 from numba.core.dispatcher import Dispatcher
-from elements import jit
+try:
+    from femcore import jit
+except ImportError:  # a checkout from before femcore/jit.py (it was elements/jit.py)
+    from elements import jit
 from femcore import kernel_cache
 files = set()
 for name in ("elements", "femcore", "materials", "solvers"):

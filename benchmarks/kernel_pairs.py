@@ -4,7 +4,8 @@ and the jit it compiles with) needs on a shared machine, where two runs minutes 
 by more than the change.
 
 The revision's ``elements/fibrous/kernels.py``, ``cell_terms.py``, ``packed_laws.py``,
-``level_lanes.py``, ``elements/lane_maths.py`` and ``elements/jit.py`` (``git show``; those
+``level_lanes.py``, ``elements/lane_maths.py`` and the jit (``femcore/jit.py``, before in
+``elements/``) (``git show``; those
 it has) are written into a package of their own in a temporary folder, their
 imports of one another pointed there, and imported beside this tree's; the block is built
 once by this tree (the two must read the same block), the sheet of
@@ -61,7 +62,9 @@ MODULES = {
     "elements/fibrous/packed_laws.py": "elements.fibrous.packed_laws",
     "elements/fibrous/level_lanes.py": "elements.fibrous.level_lanes",
     "elements/lane_maths.py": "elements.lane_maths",
+    # where a revision has it: elements/jit.py before it moved to femcore (one module "jit")
     "elements/jit.py": "elements.jit",
+    "femcore/jit.py": "femcore.jit",
 }
 CALLS = {
     "force": "internal_force",

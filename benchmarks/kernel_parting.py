@@ -1,4 +1,4 @@
-"""What parting the compiled kernels costs a process (elements.jit): the check that a kernel's
+"""What parting the compiled kernels costs a process (femcore.jit): the check that a kernel's
 ``prange`` loop may be split into independent parts (``_parts_independent``), run on every
 kernel of the library, beside a reference pass of the check as it was written before (kept
 here: for each name stored in the loop it walked the whole loop again for augmented
@@ -32,11 +32,11 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 import elements  # noqa: E402
 import femcore  # noqa: E402
 import solvers  # noqa: E402
-from elements import jit  # noqa: E402
+from femcore import jit  # noqa: E402
 
 
 def reference_parts_independent(definition: ast.FunctionDef, call: ast.Call) -> bool:
-    """``elements.jit._parts_independent`` as it was written before (the reference pass)."""
+    """``femcore.jit._parts_independent`` as it was written before (the reference pass)."""
     body = [
         statement
         for statement in definition.body
@@ -76,7 +76,7 @@ def reference_parts_independent(definition: ast.FunctionDef, call: ast.Call) -> 
 
 
 def kernels() -> list:
-    """Every kernel (elements.jit's wrapper) the library's modules define."""
+    """Every kernel (femcore.jit's wrapper) the library's modules define."""
     found: dict[int, object] = {}
     for package in (elements, femcore, solvers):
         for module in pkgutil.walk_packages(package.__path__, package.__name__ + "."):

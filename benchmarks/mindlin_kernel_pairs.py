@@ -153,7 +153,7 @@ def on_threads(run, threads: int):
     """``run()`` with numba's loops on ``threads`` threads (the load not followed)."""
     import numba
 
-    from elements import jit
+    from femcore import jit
 
     saved, follow = numba.get_num_threads(), jit.FOLLOW_LOAD
     numba.set_num_threads(threads)

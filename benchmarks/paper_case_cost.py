@@ -58,7 +58,7 @@ iterations in 4 increments; the 8-ply stack's sag 1.9 s); plies-heavy-cantilever
 plies 1.3 s); mindlin-pinched-cylinder 1.55 s (five meshes, two Newton iterations each, 0.85
 s on 4225 nodes). The rest of the report's cases but the forming runs 0.1-0.8 s each. Inside a
 case no model is built twice and no solve repeated, but Peirce's test's (below); no Python
-glue of note round the kernels (elements/jit.py's wrappers 0.2 s of plies-bai-5.1's 17 s
+glue of note round the kernels (femcore/jit.py's wrappers 0.2 s of plies-bai-5.1's 17 s
 under cProfile).
 
 References, and bai-6.2.2's orders (fcee482 from git archive beside this tree, ``--cases

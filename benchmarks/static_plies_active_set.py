@@ -37,10 +37,11 @@ step's linear model, solvers/contact_sets.py; the two alternately in one process
   iterations alone, and with the unilateral attempt after a failed one; load 1.7-3.8): coarse
   480 tangents (30-4-4-4-4-3-3-3-3-3 and 120-51-18-13-13-13-8-12-8-44, 361 and 112 cut),
   2.9-3.3 s; default 684 (49-30-13-4-4-3-3-3-3-3 and 201-50-39-30-14-18-19-40-39-15, 580 and
-  100 cut), 19.6-20.9 s. With the rule g_{k+1} < 0 alone (``ply_active_set.HYSTERESIS =
-  False``): coarse 562 tangents. With the rule's c (the gap's weight against the multiplier's,
-  k above; one-off runs with the block's freeze patched) 0.01, 0.1 and 10 k: 607, 574 and 427
-  tangents; the sag below at 2, 4, 8 plies 31-35-42, 32-32-75, 22-25-33.
+  100 cut), 19.6-20.9 s. With the rule g_{k+1} < 0 alone (femcore.interaction
+  ``ACTIVE_SET_HYSTERESIS = False``): coarse 562 tangents. With the rule's c (the gap's
+  weight against the multiplier's, k above; one-off runs with the block's freeze patched)
+  0.01, 0.1 and 10 k: 607, 574 and 427 tangents; the sag below at 2, 4, 8 plies 31-35-42,
+  32-32-75, 22-25-33.
 * bai at 20 plies (``--plies 20``, 30 cells; one pass each, side by side in two processes,
   load 1-3.4): the ramp converges, 755 tangents (40-7-7-8-4-3-3-3-3-3 and
   187-49-68-29-27-50-34-34-14-52, 625 and 125 cut, 5 cuts), 123 s CPU; the active set without

@@ -1,5 +1,5 @@
 """The explicit step on one thread with each of numba's two builds of the element kernels
-(elements/jit.py ``_Parallel``): the plain build (what a loop on one thread runs) and the
+(femcore/jit.py ``_Parallel``): the plain build (what a loop on one thread runs) and the
 parallel build on one thread (``PLAIN_ON_ONE_THREAD = False``: what every loop ran before the
 plain build was added), in turns in one process:
 benchmarks/explicit_step.py's figures (µs of CPU per element-step) for each.
@@ -32,7 +32,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 import explicit_step  # noqa: E402
 
-from elements import jit  # noqa: E402
+from femcore import jit  # noqa: E402
 
 
 def main() -> None:

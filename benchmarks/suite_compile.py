@@ -21,7 +21,7 @@ Tried and not kept: a lower LLVM optimisation level for the suite's builds (``NU
 set for the test processes and inherited by the report's). One process each, side by side,
 on its own fresh cache, this script's workload (the bias specimen's solve, its compiling
 nearly all of it), load 4-7: CPU 53.6 s at NUMBA_OPT=3 (numba's default), 52.5 s at 1, the
-same shear angles to the bit (no fastmath, elements/jit.py). tests/test_bias_extension.py and
+same shear angles to the bit (no fastmath, femcore/jit.py). tests/test_bias_extension.py and
 test_mindlin.py (``-m "not slow"``) cold, three such processes: after 84 s of CPU each, the
 builds at 3 and at 1 had written the same 52 cache indexes, the one at 0 only 25 (its runs
 slower). numba's compile time is its own typing and lowering in Python, not LLVM's passes:

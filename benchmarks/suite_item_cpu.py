@@ -38,7 +38,7 @@ bai-6.2.2 10.2, plies-heavy-cantilever 5.0, bai-6.1.1-sensitivity 4.2 (and its D
 heavy-cantilever-nonlinear 3.7, the other 11 cases 8.5 s together.
 
 A whole run of the suite after the parallel builds became loops over parts of the plain
-builds (elements/jit.py ``_Parallel``; commit 2a218a7, a fresh clone, fresh cache, ``python -m
+builds (femcore/jit.py ``_Parallel``; commit 2a218a7, a fresh clone, fresh cache, ``python -m
 pytest``: two xdist workers beside the coarse report, the slow tests included), on the 2
 cores shared with other jobs at a load of 5 rising to 15: 1899 passed, 7 skipped, 24 min
 0 s wall, 582.6 s of CPU of pytest, its workers and the report (user 552.5 + system 30.1).

@@ -2,7 +2,7 @@
 each compilation takes (its own, its callees' compilations taken out), the signatures each
 kernel is compiled for (a kernel compiled twice for a read-only and a writable array, for
 int32 and int64 indices or for C and A layouts shows two), and what a serial build of each
-parallel kernel (elements/jit.py ``jit``) would cost against its parallel build.
+parallel kernel (femcore/jit.py ``jit``) would cost against its parallel build.
 
 One pass: a fresh process on a fresh empty numba cache (NUMBA_CACHE_DIR), one numba and BLAS
 thread, runs the given pytest modules (default: the compile-heavy modules of the suite,
@@ -33,7 +33,7 @@ modules, fresh cache, one process:
   for both (the Mindlin block's reference positions are read-only). No int32/int64 or C/A
   layout duplicates.
 
-numba's ``inline="always"`` (elements/jit.py ``inline``) against helpers compiled on their own
+numba's ``inline="always"`` (femcore/jit.py ``inline``) against helpers compiled on their own
 (``serial``), modules tests/test_fibrous.py, test_bias_extension.py and
 test_fabric_section_kernels.py, fresh cache, one process (CPU of the process / of the
 compilations): main 7e3a340, every fibrous helper spliced, 141.0 / 136.6 s (load 6.4-9.1):
@@ -65,7 +65,7 @@ The tests marked ``parallel`` run the parallel builds when numba has more than o
 as in a CI run on 2 cores (``--threads=2``: numba's setting in the probed process; the other
 tests still run on one, tests/conftest.py). tests/test_fibrous.py, fresh cache, one process,
 ``--threads=2``, main c108a2a and the parallel build as a loop over parts of the plain build
-(elements/jit.py ``_Parallel``), in turns: CPU of the process / of the compilations 52.7 /
+(femcore/jit.py ``_Parallel``), in turns: CPU of the process / of the compilations 52.7 /
 50.9 s (load 3.4-5.1), then 28.9 / 27.0 (5.1-5.2), 48.2 / 46.6 (5.2-5.0), 27.6 / 25.8
 (5.0-5.3). On main the fibrous ``_cells_pass_parallel`` took 23.1 and 22.1 s beside the plain
 ``_cells_pass``'s 7.0; as a loop over parts 3.6 and 3.3 s beside the parted plain build's 6.4
@@ -82,7 +82,7 @@ the kernel's plain build of the same loop: eight loops built twice from an empty
 (``_choose`` 3.14 s, ``_facets_at`` 1.16, ``_moved`` 0.93, ``_sides`` 0.92, ``_outline`` 0.79,
 ``_return_mapping`` 0.72, ``_chosen`` 0.53, ``_parts`` 0.33 s beside their part builds; load
 5.5), and a literal True there built ``signing_at`` again. They call the kernels' own part
-builds now (elements/jit.py ``plain_part``). tests/test_ply_facing_pass.py,
+builds now (femcore/jit.py ``plain_part``). tests/test_ply_facing_pass.py,
 test_ply_facing_whole.py, test_ply_friction_pass.py and test_ply_search.py, fresh cache, one
 process, a base export (9e8d4d5) and the change alternating (load 3.1-4.2): CPU of the process
 / of the compilations 43.2 / 35.2, then 31.8 / 24.4, 40.8 / 32.7, 34.0 / 25.8 s.

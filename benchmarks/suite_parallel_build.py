@@ -1,4 +1,4 @@
-"""The parallel build of the element loops (elements/jit.py ``_Parallel``), this checkout beside
+"""The parallel build of the element loops (femcore/jit.py ``_Parallel``), this checkout beside
 another (``--against``, e.g. a checkout of the previous commit): what its compilation costs in
 a fresh checkout and how fast it runs, each pass a fresh process on a fresh empty numba cache
 (NUMBA_CACHE_DIR), the two checkouts in turns.
@@ -29,7 +29,7 @@ one thread, µs of CPU per element-step, old and new in turns, load 3.6-4.3): st
 0.647 and 0.678 on main, 0.539 and 0.646 with the parted plain build; force 0.599, 0.562
 against 0.405, 0.472.
 
-The loop over the parts calling the plain build through its address (elements/jit.py
+The loop over the parts calling the plain build through its address (femcore/jit.py
 ``_call_at``: nothing of the plain build linked into the parallel one, where numba optimised
 and compiled it again), this checkout against c0b0822 (which linked it), 19602 cells, 2
 threads, 5 repeats, each pass on a fresh numba cache; 2 cores shared with other jobs, load
@@ -68,7 +68,11 @@ WORKLOAD = r"""
 import hashlib, sys, time
 import numpy as np
 import numba
-from elements import jit, FibrousShell, MindlinShell
+from elements import FibrousShell, MindlinShell
+try:
+    from femcore import jit
+except ImportError:  # a checkout from before femcore/jit.py (it was elements/jit.py)
+    from elements import jit
 from femcore import Mesh, Model
 from materials import ElasticShell, Fabric
 

@@ -79,7 +79,7 @@ under 6 s; by module the largest test_readme_examples.py 27.5 s (21.8 s of it it
 clusters and subprocess), test_identify.py 20.3 s (18.2 s the shared cluster's fits),
 test_ply_fade_hessian.py 15.8 s, test_ply_both_ways.py 14.0 s.
  The same run of 42315a8 (the parallel builds calling the
-plain builds through their addresses, elements/jit.py; load 12.1 -> 3.8, 1226 s wall): 674.8
+plain builds through their addresses, femcore/jit.py; load 12.1 -> 3.8, 1226 s wall): 674.8
 s of CPU in all (workers 345.7, coarse report 277.0, Dask workers 44.2 s: at these loads
 the whole run's CPU moves by tens of seconds with the code unchanged, the report's here),
 compilations 107.8 s: the 29 parallel builds 24.5 -> 15.8 s (fibrous ``_cells_pass_parallel``

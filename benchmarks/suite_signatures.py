@@ -18,7 +18,7 @@ or uint64), ``hessian_kernels._tension_level`` 2 (``edge`` Literal[int] 0 or 1);
 
 After those helpers were given one set of argument types (``corner_thickness``'s ``nodal``
 and ``_tension_level``'s edge passed as variables, not constants; the parallel loops' index
-no longer reaching the helpers, elements/jit.py ``_Parallel``; the Mindlin tables and fields
+no longer reaching the helpers, femcore/jit.py ``_Parallel``; the Mindlin tables and fields
 given read-only positions and directors alike), the cache of one process running
 tests/test_fibrous.py, test_mindlin.py, test_fibrous_hessian_kernels.py,
 test_fibrous_tangent_kernels.py, test_threads.py and test_bias_extension.py
@@ -176,7 +176,7 @@ def _register():
                 stack[-1][1] += spent
             function = ev.data["dispatcher"].py_func
             # the call that asked for the build: the innermost frames of the project's own
-            # files (not numba's, nor the dispatch of elements/jit.py)
+            # files (not numba's, nor the dispatch of femcore/jit.py)
             frames = [f"{Path(f.filename).parent.name}/{Path(f.filename).name}:{f.lineno}"
                       for f in traceback.extract_stack()
                       if "/lib/python" not in f.filename and "jit.py" not in f.filename

@@ -1,9 +1,9 @@
 """Threads on a shared machine: the explicit steps of a fibrous blank on one thread and on the
-default threads (elements/jit.py), with the machine as it is and with busy processes
+default threads (femcore/jit.py), with the machine as it is and with busy processes
 competing for its cores, for numba's threading layers and wait policies side by side.
 
 Each configuration runs in a process of its own (the wait policy is read when numba loads its
-threading layer): ``passive``, the default of elements/jit.py (OpenMP, OMP_WAIT_POLICY=PASSIVE);
+threading layer): ``passive``, the default of femcore/jit.py (OpenMP, OMP_WAIT_POLICY=PASSIVE);
 ``spinning``, OpenMP with OMP_WAIT_POLICY=ACTIVE (numba's threads spin between two parallel
 loops, as they did before); ``workqueue``, numba's own layer. Each times ``--steps`` explicit
 steps of the hemisphere forming blank (``--cells`` squares a side, two triangles each; the
@@ -12,7 +12,7 @@ threads, in turns, best of ``--repeats``, with a reference pass over the same no
 per node) in the same process. Printed per configuration and load: ms per step (wall and CPU),
 the threads the default chose, and the ratio of the default's wall time to one thread's (the
 issue's bound: at most 1.3 under a competing busy process), the same on all of numba's threads
-whatever the load (``elements.jit.FOLLOW_LOAD`` off: what the wait policy alone gives), with
+whatever the load (``femcore.jit.FOLLOW_LOAD`` off: what the wait policy alone gives), with
 /proc/loadavg.
 
 Measured on the 2-core machine nearly quiet (load 0.47-1.07, nothing else running but this
@@ -28,7 +28,7 @@ on all threads whatever the load); the workqueue layer 1.16. The one-thread time
 the two processes (65.0 against 53.0 ms, the same plain build): against the faster of the two,
 the two OpenMP threads give 1.35 times.
 
-With the parallel builds as parts of the plain build (elements/jit.py), on the same machine
+With the parallel builds as parts of the plain build (femcore/jit.py), on the same machine
 with its load at 0.9-1.4 (one other run): 1 thread 50.23-56.37 ms, 2 threads 32.54-43.86 (three
 runs; numba's own parallel build before it, in the same minutes: 60.46 / 35.63). Under two
 busy processes (``--busy 2 --configurations passive``, 20k triangles, load 3.1): 1 thread 34.98
@@ -65,7 +65,7 @@ where the quiet machine gave 1.61-1.67 above.
 
 The serial rest moved onto the threads (elements/node_rows.py, solvers/dynamics.py,
 solvers/turning.py): the velocity and rotation updates run over the nodes in parallel,
-their energy terms summed by chunks of elements.jit.CHUNK nodes in one order; a contact adds
+their energy terms summed by chunks of femcore.jit.CHUNK nodes in one order; a contact adds
 its forces into the model's sums in place (``InteractionBlock.add_internal_force``: no
 bincount scatter, no (n, 3) array a contact), its positions less the driven holder's
 translation, the meshed die's positions in its frame and the punch's total force compiled
@@ -113,7 +113,7 @@ The small passes on two threads cost more than they save on a busy machine: x - 
 rows took 46 against 56 us (best of 300, load 5-6), the forces' add 66 against 79; the
 velocity update (0.39 ms) ran no faster on two threads there either, its second thread
 waiting for a core (the calling thread's CPU halved, 545 -> 280 us). A loop follows the free
-cores (elements/jit.py), so on such a machine they run on one.
+cores (femcore/jit.py), so on such a machine they run on one.
 
 Run from the project root:
 
@@ -155,7 +155,7 @@ def child(cells: int, steps: int, repeats: int) -> None:
     import numpy as np
 
     os.environ.setdefault("FIBRESHELL_PROGRESS", "0")
-    from elements import jit
+    from femcore import jit
     from solvers.step import LumpedMasses, explicit_step
     from validation.cases import hemisphere_forming as case
 

@@ -30,7 +30,7 @@ the numpy error model). What a loop needs to vectorise here, found on the way:
 
 * no division with numba's default error model (its zero test raises, and a loop with an
   exit does not vectorise): the helpers are built with the numpy error model
-  (elements/jit.py ``lanes``), and a kernel whose loops divide by ``jit_lanes``;
+  (femcore/jit.py ``lanes``), and a kernel whose loops divide by ``jit_lanes``;
 * no read of a column of a 2-D argument (``a[start + i, f]``: "cannot identify array
   bounds") and rows of one scratch array at constant distances: a 2-D scratch array's rows
   at a run-time stride asked a test for each pair of rows ("too many memory checks"), a

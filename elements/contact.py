@@ -101,10 +101,11 @@ from elements.contact_history import (
 from elements.contact_penalty import PENALTY_SHARE, automatic_penalty, damping_ratio
 from elements.contact_start import check_start_gaps
 from elements.node_rows import add_node_forces, distinct_nodes, row_sums, same_rows, shifted
+from elements.rigid_surface import RigidSurface
 from elements.tools import RigidTool
 from femcore.assembly import CellTangent, Scatter
 from femcore.checks import as_number, as_reals
-from femcore.interaction import Body, Interaction, InteractionBlock
+from femcore.interaction import Body, FacetRecord, Interaction, InteractionBlock
 from femcore.state import State
 
 __all__ = ["PENALTY_SHARE", "Contact", "ContactBlock", "FrictionHistory"]
@@ -745,6 +746,15 @@ class ContactBlock(InteractionBlock):
         r = float(np.sum(k)) / float(np.max(k / self._mass_ratio))
         on_tool = float(np.sum(k)) * (1.0 + 1.0 / r)
         return np.append(nodes, self.tool_node), np.append(k * (1.0 + r), on_tool)
+
+    def facet_record(self) -> FacetRecord | None:
+        """femcore.interaction: the record of a meshed tool (``RigidSurface.facet_record``)
+        with its facets' corners and normals; None for an analytic tool and for a smoothed
+        one (its normal continuous across its edges: no crease to name)."""
+        tool = self.tool
+        if not isinstance(tool, RigidSurface) or tool.smooth:
+            return None
+        return FacetRecord(tool.facet_record(), tool.corners, tool.normals)
 
     def node_fields(self, state: State, history: Any = None) -> dict[str, np.ndarray]:
         """contact_gap (mm, < 0 a penetration, NaN off the node set), contact_force (the normal

@@ -19,7 +19,7 @@ from __future__ import annotations
 import numpy as np
 
 from elements.fibrous.packed_laws import law_energy, law_slope, law_value
-from elements.jit import AVAILABLE, serial
+from femcore.jit import AVAILABLE, serial
 
 __all__ = ["LAW_ORDER", "law_slope", "section_response"]
 

@@ -31,7 +31,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from elements.jit import jit, lane_rows, prange, serial
+from femcore.jit import jit, lane_rows, prange, serial
 
 __all__ = [
     "SHORT",
@@ -104,7 +104,7 @@ def _squared_gap(p0, p1, p2, corners, f):
     return q0, q1, q2, (q0 - p0) ** 2 + (q1 - p1) ** 2 + (q2 - p2) ** 2
 
 
-# Without numba's reference counting (elements/jit.py ``lane_rows``): called once or more a
+# Without numba's reference counting (femcore/jit.py ``lane_rows``): called once or more a
 # point with the corners array, whose incref and decref (atomic) at every call took half the
 # kept facets' loop (38 -> 19 us a call on the hemisphere die's 441 points when every point
 # keeps its facet, one thread; benchmarks/forming_one_ply_step.py). No division here: the

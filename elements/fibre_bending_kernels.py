@@ -11,7 +11,7 @@ import math
 import numpy as np
 
 from elements.fibre_bending_terms import turning
-from elements.jit import serial
+from femcore.jit import serial
 
 __all__ = ["patch_forces", "patch_spring_bounds"]
 

@@ -19,7 +19,7 @@ of a read-only array 0.29 us and of a writable one 1.1 us (the view and its flag
 ``writable`` of a writable array 0.24 us; numba's call about 0.1 us more for a read-only
 array than for a writable one. A kernel declared with one signature of read-only arrays of
 any layout takes writable arrays at no cost (its call 0.42 us against 0.50 with two
-``np.ascontiguousarray``), but elements/jit.py builds its kernels lazily for the types they
+``np.ascontiguousarray``), but femcore/jit.py builds its kernels lazily for the types they
 are called with (their parted and parallel builds): not used.
 """
 

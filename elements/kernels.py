@@ -8,15 +8,15 @@ The loops over cells run in parallel (numba's ``prange``, as many threads as
 loop over nodes after them (``NodeCorners``), each node adding the corners of its cells in cell
 order, so that no two threads add to the same node and the sums are those of numpy.bincount.
 The fibrous shell's loops are in elements/fibrous/kernels.py; the compilation helpers
-(``jit``, ``serial``, ``prange``) in elements/jit.py.
+(``jit``, ``serial``, ``prange``) in femcore/jit.py.
 """
 
 from __future__ import annotations
 
 import numpy as np
 
-from elements.jit import AVAILABLE, inline, jit, prange, serial
 from elements.kernel_inputs import read_only
+from femcore.jit import AVAILABLE, inline, jit, prange, serial
 from femcore.workspace import workspace_of
 
 __all__ = [

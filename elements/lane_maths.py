@@ -32,7 +32,7 @@ from typing import Any
 
 import numpy as np
 
-from elements.jit import AVAILABLE, inline, lanes
+from femcore.jit import AVAILABLE, inline, lanes
 
 __all__ = ["bits_float", "float_bits", "lane_arcsin", "lane_log"]
 

@@ -4,7 +4,7 @@
 
 Each piece works on one cell ``cell`` of the loop's corner arrays, into scratch arrays the
 loop allocated (once a cell or once a chunk of cells), and is spliced into its callers
-(elements/jit.py ``inline``: numba's ``inline="always"``, the helper's IR copied into every
+(femcore/jit.py ``inline``: numba's ``inline="always"``, the helper's IR copied into every
 call site): called, a helper with array arguments costs their reference counting at every
 call, several times the work of these small pieces. Spliced, each loop runs the operations
 it ran when it spelled them out, in the same order: the same numbers to the last bit.
@@ -24,7 +24,7 @@ spelled out (10,000 cells, one thread).
 
 from __future__ import annotations
 
-from elements.jit import inline
+from femcore.jit import inline
 
 __all__ = [
     "bending_spin_blocks",

@@ -14,9 +14,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from elements.jit import AVAILABLE, jit, prange
 from elements.kernel_inputs import read_only
 from elements.mindlin_cell_terms import level_measures, level_vectors, tying_vectors
+from femcore.jit import AVAILABLE, jit, prange
 
 # Cells per chunk of the loop (the scratch allocated once a chunk), passed to the kernel as an
 # argument (numba would freeze a global into its cached build).

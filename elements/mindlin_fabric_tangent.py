@@ -19,7 +19,6 @@ from __future__ import annotations
 
 import numpy as np
 
-from elements.jit import AVAILABLE, jit, prange
 from elements.kernel_inputs import read_only
 from elements.mindlin_cell_terms import (
     bending_spin_blocks,
@@ -31,6 +30,7 @@ from elements.mindlin_cell_terms import (
     turned_vectors,
     tying_vectors,
 )
+from femcore.jit import AVAILABLE, jit, prange
 
 # Cells per chunk of the loop (the scratch allocated once a chunk), passed to the kernel as an
 # argument (numba would freeze a global into its cached build).

@@ -17,7 +17,6 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from elements.jit import AVAILABLE, jit, prange
 from elements.mindlin_cell_terms import (
     bending_spin_blocks,
     clear_stress_terms,
@@ -28,6 +27,7 @@ from elements.mindlin_cell_terms import (
     turned_vectors,
     tying_vectors,
 )
+from femcore.jit import AVAILABLE, jit, prange
 
 if TYPE_CHECKING:
     from elements.mindlin import MindlinShellBlock

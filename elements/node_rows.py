@@ -1,4 +1,4 @@
-"""A node-to-tool contact's passes over its rows, compiled (on the threads of elements/jit.py
+"""A node-to-tool contact's passes over its rows, compiled (on the threads of femcore/jit.py
 where each row is its own): its nodes' positions less a translation, its forces added into
 the model's nodal sums in place, and their total. Each gives the numbers of the numpy
 expression it replaces to the last bit, on any number of threads.
@@ -36,8 +36,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from elements.jit import jit, prange, serial, unsigned
 from elements.kernel_inputs import writable
+from femcore.jit import jit, prange, serial, unsigned
 
 __all__ = ["add_node_forces", "distinct_nodes", "row_sums", "same_rows", "shifted"]
 
@@ -45,7 +45,7 @@ __all__ = ["add_node_forces", "distinct_nodes", "row_sums", "same_rows", "shifte
 def _shifted(x, shift, out):
     """out = x - shift: x, out (s, 3); shift (3,)."""
     for row in prange(x.shape[0]):
-        i = unsigned(row)  # an index numba need not test for < 0 (elements/jit.py)
+        i = unsigned(row)  # an index numba need not test for < 0 (femcore/jit.py)
         out[i, 0] = x[i, 0] - shift[0]
         out[i, 1] = x[i, 1] - shift[1]
         out[i, 2] = x[i, 2] - shift[2]

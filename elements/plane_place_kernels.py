@@ -6,7 +6,7 @@ middle; no fused multiply-add: numba builds without fastmath), so that the compi
 landing and departure (elements/ply_landing_kernels.py, ply_departure_kernels.py), which
 both place their points on the planes of their triangles then and now, give numpy's bits.
 
-Built with numpy's error model (elements/jit.py ``lanes``), as the kernels that call them:
+Built with numpy's error model (femcore/jit.py ``lanes``), as the kernels that call them:
 a degenerate triangle gives inf or NaN, not an exception.
 """
 
@@ -14,7 +14,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from elements.jit import lanes
+from femcore.jit import lanes
 
 __all__ = ["frame", "place"]
 

@@ -17,7 +17,8 @@ augmented Lagrangian of Alart and Curnier, CMAME 92 (1991) 353, in its condensed
     A_{k+1} = {p : lambda_k + c (-g_{k+1}) > 0},   lambda_k = -k g_k on A_k, 0 off it,
 
 c = k the point's penalty, lambda_k the multiplier stored where A_k was chosen and g_{k+1}
-the gap at the new iterate (``HYSTERESIS``): a point off A joins at g < 0; a pressed point
+the gap at the new iterate (femcore.interaction ``ACTIVE_SET_HYSTERESIS``, which the
+static solver's prediction of the set reads too): a point off A joins at g < 0; a pressed point
 leaves only once its gap has opened by more than it was pressed in (a point the last step
 pulled, lambda < 0, at once), which keeps points at nearly zero force from stepping on and
 off at every iterate. A fixed point of the rule is an equilibrium of the plain unilateral
@@ -49,19 +50,15 @@ from elements import ply_sides
 from elements.ply_block import PlyContactBlock
 from elements.ply_fade import point_fade
 from elements.ply_projection import Facing, penalty_law
+from femcore import interaction
 from femcore.state import State
 
-__all__ = ["HYSTERESIS", "LAWS", "ActiveSetPlyContactBlock", "FrozenSides", "ReachFacing"]
+__all__ = ["LAWS", "ActiveSetPlyContactBlock", "FrozenSides", "ReachFacing"]
 
 #: The normal laws a ply contact may take under Static (``PlyContact(static_law=...)``):
 #: "ramp", the penalty with its stiffness ramped over delta (the explicit solver's); and
 #: "active_set", this module's.
 LAWS = ("ramp", "active_set")
-#: The set's rule: True, lambda_k (stored where the last set was chosen) + c (-g_{k+1}) > 0
-#: (module docstring); False, g_{k+1} < 0 alone (the rule with the multiplier of the same
-#: iterate, lambda_{k+1} = -k g_{k+1}, to which the primal-dual rule of a condensed penalty
-#: reduces): benchmarks/static_plies_active_set.py measures the two.
-HYSTERESIS = True
 
 
 @dataclass(frozen=True)
@@ -209,7 +206,10 @@ class ActiveSetPlyContactBlock(PlyContactBlock):
         last = history.active if isinstance(history, FrozenSides) else None
         stiffness = self.stiffness
         if grow and last is not None and history.pressure is not None:
-            pull = history.pressure if HYSTERESIS else 0.0
+            # the set's rule (femcore.interaction): with False, g_{k+1} < 0 alone, the rule
+            # with the multiplier of the same iterate, lambda_{k+1} = -k g_{k+1}, to which the
+            # primal-dual rule of a condensed penalty reduces
+            pull = history.pressure if interaction.ACTIVE_SET_HYSTERESIS else 0.0
             active = reachable & (pull - stiffness * gap > 0.0)
         else:
             active = reachable & (gap < 0.0)

@@ -8,6 +8,8 @@ elements/ply_friction.py, the facing search and the penalty law in elements/ply_
 
 from __future__ import annotations
 
+from collections.abc import Iterator
+from contextlib import contextmanager
 from typing import Any
 
 import numpy as np
@@ -260,9 +262,32 @@ class PlyContactBlock(InteractionBlock):
 
     def set_penalty(self, node_stiffness: np.ndarray) -> None:
         """The upper nodes' penalties k_j (u,) N/mm from now on, the points' with them (a
-        Static increment's soft start, solvers/penalty_start.py)."""
+        Static increment's soft start, ``softened_penalty``)."""
         self.node_stiffness = np.asarray(node_stiffness, dtype=float)
         self.stiffness = self._point_stiffness()
+
+    @contextmanager
+    def softened_penalty(self, share: float) -> Iterator[bool]:
+        """femcore.interaction: a frictionless ply contact's node penalties k_j times
+        ``share`` inside the block, the points' with them (``set_penalty``), and k_j restored
+        after it; a frictional one keeps its penalty (its stick anchors and return mapping
+        hold the penalty's history: solvers/penalty_start.py)."""
+        if self.friction != 0.0:
+            yield False
+            return
+        kept = self.node_stiffness
+        try:
+            self.set_penalty(share * kept)
+            yield True
+        finally:
+            self.set_penalty(kept)
+
+    def gaps_decide(self, history: Any) -> bool:
+        """femcore.interaction: True without a history and with the sides alone
+        (elements/ply_sides.py ``PlySides``, the set of the active set's ``FrozenSides``
+        included): the loads at any state are then the gaps' alone, the sides held until a
+        state is accepted; not with friction's history (its anchors)."""
+        return history is None or isinstance(history, ply_sides.PlySides)
 
     # ------------------------------------------------------------------ search
     def offset_directions(self, state: State) -> np.ndarray:

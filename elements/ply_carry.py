@@ -21,7 +21,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from elements.jit import serial
+from femcore.jit import serial
 from femcore.rotation import cross_matrix
 
 __all__ = [

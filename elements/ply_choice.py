@@ -23,11 +23,11 @@ import math
 
 import numpy as np
 
-from elements.jit import jit_lanes, lanes, prange
 from elements.kernel_inputs import read_only
 from elements.ply_kernels import closest_on_sides
 from elements.ply_projection import closest_on_edges, grown_corners
 from elements.ply_wedge import KEEP, closest_on_cut_numpy, cut_keeps, cut_overshoot
+from femcore.jit import jit_lanes, lanes, prange
 
 __all__ = ["choice_arrays", "choice_returned", "choose_facing", "choose_facing_numpy", "cut_arrays"]
 

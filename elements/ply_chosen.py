@@ -22,7 +22,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from elements.jit import jit_lanes, prange
+from femcore.jit import jit_lanes, prange
 
 __all__ = ["chosen", "chosen_arrays", "chosen_numpy", "fade_inputs_numpy"]
 

@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from elements.jit import inline, jit, prange
+from femcore.jit import inline, jit, prange
 
 __all__ = ["local_loads"]
 

@@ -13,8 +13,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from elements.jit import jit, prange, serial
 from elements.kernel_inputs import read_only, writable
+from femcore.jit import jit, prange, serial
 
 __all__ = ["closest_cut_at", "closest_on_cut"]
 

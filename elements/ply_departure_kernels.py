@@ -28,8 +28,8 @@ import numpy as np
 
 from elements import plane_place_kernels as plane
 from elements import ply_departure
-from elements.jit import jit_lanes, prange
 from elements.kernel_inputs import read_only, writable
+from femcore.jit import jit_lanes, prange
 
 if TYPE_CHECKING:
     from elements.ply_block import PlyContactBlock

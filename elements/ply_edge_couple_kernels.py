@@ -10,8 +10,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from elements.jit import lanes
 from elements.kernel_inputs import read_only, writable
+from femcore.jit import lanes
 
 __all__ = ["edge_couples"]
 

@@ -27,11 +27,11 @@ from __future__ import annotations
 
 import numpy as np
 
-from elements.jit import jit_lanes, prange
 from elements.kernel_inputs import read_only
 from elements.ply_edge_gap import edge_hessian
 from elements.ply_feature_normals import fan_parts, signing_at
 from elements.ply_topology import FaceTopology
+from femcore.jit import jit_lanes, prange
 
 __all__ = ["edge_sides"]
 

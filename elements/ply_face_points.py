@@ -20,8 +20,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from elements.jit import lanes
 from elements.kernel_inputs import read_only, writable
+from femcore.jit import lanes
 
 __all__ = ["face_points", "offset_normals", "offset_toward"]
 

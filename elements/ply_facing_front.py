@@ -43,7 +43,6 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from elements import ply_face_points, ply_projection, ply_search
-from elements.jit import SMALL_LOOP, lanes
 from elements.kept_bits import same_bits
 from elements.kernel_inputs import writable
 from elements.ply_facing_whole import (
@@ -53,6 +52,7 @@ from elements.ply_facing_whole import (
     finished_facing,
 )
 from elements.ply_projection import INSIDE, MARGIN, Facing
+from femcore.jit import SMALL_LOOP, lanes
 
 if TYPE_CHECKING:
     from elements.ply_block import PlyContactBlock

@@ -7,7 +7,7 @@ candidates' arrays itself, instead of three calls from Python with their convers
 allocations.
 
 Each stage is its kernel's own plain build, its whole loop on the calling thread
-(elements/jit.py ``plain_part``: one build for the kernel and this pass), so the arrays are the
+(femcore/jit.py ``plain_part``: one build for the kernel and this pass), so the arrays are the
 same to the last bit as the three kernels' (tests/test_ply_facing_pass.py compares them on cut
 strips and the two-ply hemisphere's states). For a loop of ``SMALL_LOOP`` points or more, which
 the three kernels run on several threads, ``closest_facing`` calls them as before; without the
@@ -24,10 +24,10 @@ from __future__ import annotations
 import numpy as np
 
 from elements import ply_choice, ply_chosen, ply_kernels
-from elements.jit import lanes, plain_part
 from elements.kernel_inputs import read_only
 from elements.ply_choice import choice_arrays, choice_returned, cut_arrays
 from elements.ply_chosen import chosen_arrays
+from femcore.jit import lanes, plain_part
 
 __all__ = ["facing_choice"]
 

@@ -11,7 +11,7 @@ made the same stages in four compiled calls (``facing_choice``, ``edge_sides``' 
 gathers, the working arrays and the planes' copies, about half of its time on the two-ply
 hemisphere (benchmarks/ply_chain_parts.py).
 
-Each stage runs its kernel's own plain build on the calling thread (elements/jit.py
+Each stage runs its kernel's own plain build on the calling thread (femcore/jit.py
 ``plain_part``; IEEE, no fastmath), so every array of the facing is the same to the last bit as
 the chained calls' (tests/test_ply_facing_whole.py); ``arctan2`` stays numpy's
 (elements/ply_edge_kernels.py says why). The first call's stages also run at the end of the
@@ -29,7 +29,6 @@ from dataclasses import dataclass
 import numpy as np
 
 from elements import ply_edge_kernels, ply_fade_kernels
-from elements.jit import lanes, plain_part
 from elements.kernel_inputs import read_only, writable
 from elements.ply_choice import choice_arrays, cut_arrays
 from elements.ply_chosen import chosen_arrays
@@ -39,6 +38,7 @@ from elements.ply_fade_kernels import outline_fade_at
 from elements.ply_projection import INSIDE, MARGIN, Facing
 from elements.ply_topology import FaceTopology
 from elements.ply_wedge import KEEP, WedgeCuts
+from femcore.jit import lanes, plain_part
 
 __all__ = ["chosen_outputs", "finished_facing", "whole_facing"]
 

@@ -21,13 +21,13 @@ from __future__ import annotations
 
 import numpy as np
 
-from elements.jit import jit_lanes, lanes, prange
 from elements.kernel_inputs import read_only, writable
 from elements.ply_cut_kernels import closest_cut_at
 from elements.ply_fade import SIDEWAYS
 from elements.ply_kernels import closest_on_sides, nearest_segment, segment_lines
 from elements.ply_projection import INSIDE
 from elements.ply_wedge import KEEP, WedgeCuts
+from femcore.jit import jit_lanes, lanes, prange
 
 __all__ = ["fade_at", "outline_fade_at"]
 

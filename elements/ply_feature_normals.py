@@ -25,7 +25,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from elements.jit import lanes
+from femcore.jit import lanes
 
 __all__ = ["fan_parts", "signing_at"]
 

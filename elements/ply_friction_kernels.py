@@ -36,11 +36,11 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from elements import ply_departure, ply_departure_kernels, ply_friction, ply_landing
-from elements.jit import jit_lanes, prange
 from elements.kept_bits import same_bits
 from elements.kernel_inputs import read_only, writable
 from elements.ply_friction import PlyFrictionHistory, Sliding
 from elements.ply_sides import PlySides
+from femcore.jit import jit_lanes, prange
 
 if TYPE_CHECKING:
     from elements.ply_block import PlyContactBlock

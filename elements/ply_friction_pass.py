@@ -7,7 +7,7 @@ and the next loads' return mapping from the new history, back to back on the cal
 where ``updated_history`` made three compiled calls (four with the departure's) with their
 arguments' conversions and outputs between them.
 
-Each stage runs its kernel's own plain build (elements/jit.py ``plain_part``; IEEE, no
+Each stage runs its kernel's own plain build (femcore/jit.py ``plain_part``; IEEE, no
 fastmath), so the history and both mappings are the same to the last bit as the three calls'
 (tests/test_ply_friction_pass.py); the dissipation's sum stays numpy's (its pairwise order).
 With ``select`` the pass also chooses the points that left the face (``_leaving``: the rows
@@ -23,11 +23,11 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from elements import ply_departure, ply_departure_kernels, ply_friction_kernels, ply_landing
-from elements.jit import lanes, plain_part
 from elements.kernel_inputs import read_only, writable
 from elements.ply_friction import Sliding
 from elements.ply_friction_kernels import _sliding_arrays
 from elements.ply_sides import TOUCHING, PlySides
+from femcore.jit import lanes, plain_part
 
 if TYPE_CHECKING:
     from elements.ply_block import PlyContactBlock

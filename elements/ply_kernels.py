@@ -26,8 +26,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from elements.jit import jit_lanes, lanes, prange
 from elements.kernel_inputs import read_only
+from femcore.jit import jit_lanes, lanes, prange
 
 __all__ = [
     "candidates_at",

@@ -34,8 +34,8 @@ from __future__ import annotations
 import numpy as np
 
 from elements import ply_edge_couple_kernels, ply_penalty
-from elements.jit import inline, lanes
 from elements.kernel_inputs import read_only
+from femcore.jit import inline, lanes
 
 __all__ = ["ply_loads"]
 

@@ -16,7 +16,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from elements.jit import jit_lanes, prange
+from femcore.jit import jit_lanes, prange
 
 __all__ = ["ramp_cubes", "smoothed_law"]
 

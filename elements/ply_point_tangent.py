@@ -17,9 +17,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from elements.jit import serial
 from elements.ply_carry import add_turned_offsets, carry_point, carry_reference, own_maps
 from elements.ply_fade_hessian import plane_hessian
+from femcore.jit import serial
 
 __all__ = ["point_blocks", "point_blocks_reference"]
 

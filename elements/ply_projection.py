@@ -213,7 +213,6 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from elements import ply_chosen, ply_edge_kernels, ply_kernels, ply_penalty
-from elements.jit import SMALL_LOOP
 from elements.ply_edge_gap import towards_closest
 from elements.ply_facets import (  # noqa: F401 (re-exported)
     INSIDE,
@@ -226,6 +225,7 @@ from elements.ply_facets import (  # noqa: F401 (re-exported)
 )
 from elements.ply_topology import FaceTopology, edge_ids, open_edges  # noqa: F401 (re-exported)
 from elements.ply_wedge import WedgeCuts
+from femcore.jit import SMALL_LOOP
 
 if TYPE_CHECKING:  # ply_fade imports this module
     from elements.ply_fade import OutlineTree

@@ -73,10 +73,10 @@ from scipy.spatial import cKDTree
 
 from elements import ply_projection, ply_search_pairs
 from elements.facet_search import _squared_gap, closest_on_triangles
-from elements.jit import jit, lanes, prange
 from elements.kernel_inputs import read_only
 from elements.ply_projection import MARGIN, grown_corners
 from elements.ply_wedge import WedgeCuts, closest_on_grown
+from femcore.jit import jit, lanes, prange
 
 __all__ = ["REBUILD_SHARE", "SKIN", "FacingSearch", "grown_distance", "pair_distances"]
 

@@ -19,8 +19,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from elements.jit import serial
 from elements.kernel_inputs import read_only
+from femcore.jit import serial
 
 __all__ = ["bounded_pairs", "kept_pairs", "lists_of"]
 

@@ -85,9 +85,6 @@ class PlySides:
     sides: np.ndarray
     faces: np.ndarray
     corners: np.ndarray
-    #: The loads at any state are the gaps' alone, the sides held until a state is accepted
-    #: (solvers/newton.py ``curves_with_contact``: as no history).
-    gaps_decide = True
 
     @property
     def dissipated(self) -> float:

@@ -24,10 +24,10 @@ from __future__ import annotations
 
 import numpy as np
 
-from elements.jit import lanes
 from elements.kernel_inputs import read_only
 from elements.ply_fade import SIDEWAYS, SIDEWAYS_STIFFNESS
 from elements.ply_kernels import nearest_segment, segment_lines
+from femcore.jit import lanes
 
 __all__ = ["fastest_point", "held_points", "near_outline", "spread_loads", "weighted_reach"]
 

@@ -23,8 +23,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from elements.jit import jit, prange
 from elements.kernel_inputs import read_only
+from femcore.jit import jit, prange
 
 __all__ = ["surface_point"]
 

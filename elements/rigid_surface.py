@@ -29,11 +29,11 @@ from elements.facet_search import (
     signed_from_closest,
     spans,
 )
-from elements.jit import threads_for
 from elements.node_rows import same_rows
 from elements.tool_smoothing import corner_normals, facet_rings, smoothed_gap
 from elements.tools import RigidTool
 from femcore.checks import as_flag, check_positive
+from femcore.jit import threads_for
 from femcore.loads import AmplitudeFunction
 from femcore.topology import ZERO_AREA_TOL
 
@@ -77,7 +77,7 @@ SEARCH_WEIGHT = 20
 
 def _workers(points: int) -> int:
     """The threads the k-d tree's queries of ``points`` points run on (scipy's ``workers``):
-    elements/jit.py's count for a loop of SEARCH_WEIGHT times as many cells. Each point's
+    femcore/jit.py's count for a loop of SEARCH_WEIGHT times as many cells. Each point's
     answer is its own, whatever the threads."""
     return threads_for(SEARCH_WEIGHT * points)
 

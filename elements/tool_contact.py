@@ -39,10 +39,10 @@ import numpy as np
 from elements import rigid_surface
 from elements.annulus import RigidAnnulus
 from elements.contact import ContactBlock
-from elements.jit import jit, prange
 from elements.node_rows import same_rows, shifted
 from elements.rigid_surface import RigidSurface
 from elements.tools import RigidPlane, RigidSphere, RigidTool
+from femcore.jit import jit, prange
 
 __all__ = [
     "annulus_forces", "compiled_pass_applies", "contact_forces", "plane_forces", "sphere_forces",

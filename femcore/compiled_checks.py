@@ -15,7 +15,7 @@ import numpy as np
 from femcore.dofs import dof_columns, dof_names
 from femcore.element import ElementBlock, ElementType
 from femcore.entry_error import EntryError, EntryWarning
-from femcore.interaction import Body, Interaction, InteractionBlock
+from femcore.interaction import OPENING_LAWS, Body, Interaction, InteractionBlock
 from femcore.mesh import Mesh
 
 __all__ = [
@@ -71,6 +71,23 @@ def bound_interaction(
     n_tools = getattr(block, "n_tools", None)
     if isinstance(n_tools, bool) or not isinstance(n_tools, (int, np.integer)) or n_tools < 0:
         raise ValueError(f"{type(block).__name__}.n_tools is {n_tools!r}: expected an int >= 0")
+    friction = block.friction
+    if (
+        isinstance(friction, (bool, np.bool_))
+        or not isinstance(friction, (int, float, np.integer, np.floating))
+        or not np.isfinite(friction)
+        or friction < 0.0
+    ):
+        raise ValueError(
+            f"{type(block).__name__}.friction is {friction!r}: expected a finite number >= 0 "
+            "(the Coulomb coefficient the static solver reads)"
+        )
+    _check_flags(block, ("unilateral_fallback",))
+    if block.opening_law not in OPENING_LAWS:
+        raise ValueError(
+            f"{type(block).__name__}.opening_law is {block.opening_law!r}: expected one of "
+            f"{OPENING_LAWS}"
+        )
     with warnings.catch_warnings(record=True) as said:
         warnings.simplefilter("always")
         try:
@@ -97,6 +114,19 @@ def check_block(element: ElementType, block: ElementBlock, active: np.ndarray) -
         element.dofs,
         active,
     )
+    _check_flags(block, ("compression_free_tangent", "has_fibre_strains"))
+
+
+def _check_flags(block: Part, names: tuple[str, ...]) -> None:
+    """The capability flags ``names`` of ``block`` (femcore.element, femcore.interaction) are
+    True or False: the solvers branch on them."""
+    for name in names:
+        value = getattr(block, name)
+        if not isinstance(value, (bool, np.bool_)):
+            raise ValueError(
+                f"{type(block).__name__}.{name} is {value!r}: expected True or False (a "
+                "capability of the protocol the solvers test)"
+            )
 
 
 def check_bound(

@@ -47,8 +47,8 @@ class CompiledTangent:
         """The tangent parts of the parts of the given indices (into ``parts``), or None if
         one of them has no tangent of its own.
 
-        ``compression_free``: the blocks that offer it (a true class attribute
-        ``compression_free_tangent``: the fibrous shell, elements/fibrous/tangent.py
+        ``compression_free``: the element blocks that offer it (``compression_free_tangent``
+        true, femcore.element: the fibrous shell, elements/fibrous/tangent.py
         ``membrane_hessian``) give their tangent with the fibres' compression left out of its
         stress terms, the static solver's tangent far from equilibrium (docs/theory.md §6.5);
         the other parts give their own tangent as without it.
@@ -57,8 +57,12 @@ class CompiledTangent:
         tangent: list[TangentPart] = []
         for i in parts:
             part = self.parts[i]
-            if compression_free and getattr(part, "compression_free_tangent", False):
-                own = part.tangent(state, histories[i], compression_free=True)  # type: ignore[call-arg]
+            if (
+                compression_free
+                and isinstance(part, ElementBlock)
+                and part.compression_free_tangent
+            ):
+                own = part.tangent_compression_free(state, histories[i])
             else:
                 own = part.tangent(state, histories[i])
             if own is None:

@@ -15,6 +15,13 @@ the model holds (every DOF of the block at the node fixed or prescribed) through
 ``ElementBlock.apply_supports``; a block whose mechanics depend on it (the rotation-free bending
 of ``FibrousShell`` clamps itself there) overrides it, every other block ignores it.
 
+Capabilities: what the static solver asks of a block beyond forces, energies and tangents
+(a tangent without the fibres' compression, ``compression_free_tangent``; the fibre edges and
+the levels' fibre strains it keeps, ``fibre_edges``, ``has_fibre_strains``) are members of
+this protocol, each with a default on ``ElementBlock`` that means the block lacks it; the
+solvers call them and never test a block's class or probe it for an attribute, and the
+element kit checks what a block declares (femcore/capability_checks.py).
+
 History variables (plastic strains, damage) live in the ``State``, one entry per block
 (``State.history[i]`` for ``model.blocks[i]``). The model passes a
 block its entry with the state; a block never mutates it: ``update_history`` returns the new one
@@ -109,6 +116,18 @@ class ElementBlock(ReadOnlyState, ABC):
         depend on its own nodes only, 2 for rotation-free bending over neighbour patches.
         Every block declares it (the model refuses a block without it): a reach too small
         gives a wrong finite-difference tangent without any error.
+
+    compression_free_tangent : bool
+        Whether the block gives a tangent with the fibres' compression left out of its stress
+        terms (``tangent_compression_free``), which the static solver takes far from
+        equilibrium (docs/theory.md §6.5); False by default: the block's tangent is its only
+        one (the fibrous shell declares True).
+    has_fibre_strains : bool
+        Whether the block gives its levels' fibre strains and their gradient
+        (``fibre_strains``, ``fibre_strain_gradient``), which the static solver's level
+        projection keeps at their first order (solvers/newton_levels.py); False by default:
+        the block has no nearly inextensible measures to keep (the fibrous shell declares
+        True).
     """
 
     dofs: tuple[str, ...]
@@ -117,6 +136,8 @@ class ElementBlock(ReadOnlyState, ABC):
     connectivity: np.ndarray
     scatter: Scatter
     reach: int
+    compression_free_tangent: bool = False
+    has_fibre_strains: bool = False
 
     # ------------------------------------------------------------------ required
     @abstractmethod
@@ -199,6 +220,38 @@ class ElementBlock(ReadOnlyState, ABC):
         at once."""
         parts = self.tangent(state, history)
         return None if parts is None else iter(parts)
+
+    def tangent_compression_free(
+        self, state: State, history: Any = None
+    ) -> Sequence[TangentPart] | None:
+        """``tangent`` with the fibres' compression left out of its stress terms, asked only
+        of a block that declares ``compression_free_tangent`` (femcore/compiled_tangent.py);
+        the default is ``tangent`` itself: a block without fibres has no compression to
+        leave out."""
+        return self.tangent(state, history)
+
+    def fibre_edges(self) -> np.ndarray:
+        """(k, 2) int node pairs of the edges that run along the fibres in the reference: the
+        nearly inextensible lines the static solver's fibre-length projection keeps
+        (solvers/newton_fibres.py). The default, (0, 2): the block has no such edge."""
+        return np.zeros((0, 2), dtype=np.int64)
+
+    def fibre_strains(self, state: State) -> np.ndarray:
+        """(m, p) float, the fibre strains (and shear angles, rad) of each cell's levels at
+        ``state``, zero in the reference; asked only of a block that declares
+        ``has_fibre_strains`` (solvers/newton_levels.py), which must override it."""
+        raise NotImplementedError(
+            f"{type(self).__name__} gives no fibre strains (has_fibre_strains is False)"
+        )
+
+    def fibre_strain_gradient(self, state: State) -> tuple:
+        """The derivatives of ``fibre_strains`` at each cell's corners and the pairs of
+        corners they are combined over (elements/fibrous/level_jacobian.py
+        ``level_strain_gradient``); asked only of a block that declares ``has_fibre_strains``,
+        which must override it."""
+        raise NotImplementedError(
+            f"{type(self).__name__} gives no fibre strain gradient (has_fibre_strains is False)"
+        )
 
     def apply_supports(self, held: np.ndarray) -> None:
         """Learn which nodes the model's supports hold; the default ignores it.

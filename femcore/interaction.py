@@ -23,6 +23,14 @@ penalties are sized on, then, as a solver goes, ``internal_force``,
 bookkeeping (``dissipated_energy``, ``tool_forces``, ``tool_displacements``, ``tool_nodes``,
 ``tool_work``, ``node_fields``).
 
+Capabilities: what a quasi-static solver asks of a contact beyond its forces (its
+``friction``; contact sets it freezes, ``unilateral_fallback``, ``opening_law`` and
+``released``, ``set_model`` and ``with_set``; ``gaps_decide``; a soft start,
+``softened_penalty``; the facets of a meshed tool, ``facet_record``) are members of this
+protocol, each with a default on ``InteractionBlock`` that means the block lacks it; the
+solvers call them and never test a block's class or probe it for an attribute, and the
+interaction kit checks what a block declares (femcore/capability_checks.py).
+
 History: ``State.history`` holds one entry per part of the compiled model, the element blocks
 first, then the interactions (``CompiledModel.parts``); an interaction receives its entry and
 never mutates it.
@@ -34,7 +42,8 @@ exert on whatever the interaction stands for), so that the residual is F_ext - F
 from __future__ import annotations
 
 from abc import ABC, abstractmethod
-from collections.abc import Sequence
+from collections.abc import Iterator, Sequence
+from contextlib import contextmanager
 from dataclasses import dataclass
 from typing import Any, ClassVar
 
@@ -46,11 +55,51 @@ from femcore.mesh import Mesh
 from femcore.read_only_state import ReadOnlyState
 from femcore.state import State
 
-__all__ = ["Body", "BodyPart", "Interaction", "InteractionBlock", "SPRINGS_HELD_STEPS"]
+__all__ = [
+    "ACTIVE_SET_HYSTERESIS",
+    "OPENING_LAWS",
+    "SPRINGS_HELD_STEPS",
+    "Body",
+    "BodyPart",
+    "FacetRecord",
+    "Interaction",
+    "InteractionBlock",
+]
 
 #: The explicit step is evaluated every this many steps (solvers/explicit.py), and with it
 #: ``springs_at``, whose springs must bound the stiffness until then.
 SPRINGS_HELD_STEPS = 10
+#: The rule by which an active set of a bilateral penalty is chosen again between Newton
+#: iterations (``InteractionBlock.freeze(grow=True)``, elements/ply_active_set.py) and
+#: predicted on the step's linear model (``set_model``, solvers/contact_sets.py), both read
+#: here so that they agree: True, lambda_k (the multiplier stored where the last set was
+#: chosen) + c (-g_{k+1}) > 0; False, g_{k+1} < 0 alone (docs/theory.md §9.3a;
+#: benchmarks/static_plies_active_set.py measures the two).
+ACTIVE_SET_HYSTERESIS = True
+#: The laws ``InteractionBlock.opening_law`` may name: None, the block's law under Static
+#: from the first increment on; "ramp", its explicit law in the first increment of each phase
+#: of the load path, its history ``released`` (solvers/newton.py ``opens_on_ramp``).
+OPENING_LAWS = (None, "ramp")
+
+
+@dataclass(frozen=True)
+class FacetRecord:
+    """The facets a meshed rigid tool's closest points lay on in the last evaluations of an
+    interaction's contact (``InteractionBlock.facet_record``): what the static solver's stop
+    message reads to name a node that cycles across a crease (solvers/stop_diagnosis.py).
+
+    record : (k, c) int
+        The closest facet of each of the interaction's rows (``connectivity``) in each of the
+        last c evaluations, oldest first; -1 where a row had no candidate facet.
+    corners : (f, 3, 3) float
+        The tool's facets' corners, mm.
+    normals : (f, 3) float
+        The facets' unit normals.
+    """
+
+    record: np.ndarray
+    corners: np.ndarray
+    normals: np.ndarray
 
 
 @dataclass(frozen=True)
@@ -153,12 +202,29 @@ class InteractionBlock(ReadOnlyState, ABC):
     n_tools : int
         How many rigid tools the block acts against (the rows of ``tool_forces``): 0 for an
         interaction between nodes of the body.
+    friction : float
+        The Coulomb coefficient of the block's contact, >= 0; 0 by default (a frictionless
+        contact, a tie). The static solver holds the free unknowns in an increment's first
+        iteration where a frictional block keeps no contact set (solvers/newton.py
+        ``imposes_alone``).
+    unilateral_fallback : bool
+        For a block that keeps contact sets (overrides ``freeze``): whether a Newton attempt
+        with its sets frozen that fails is tried again under its unilateral law before the
+        increment is cut (solvers/newton.py ``newton``). True by default; False where that
+        law is known to stall (the ply contact's active set, elements/ply_active_set.py).
+    opening_law : str or None
+        One of OPENING_LAWS: "ramp" for a block whose law under Static opens each phase of
+        the load path with its explicit law, its history ``released`` (the ply contact's
+        active set); None by default (its static law from the start).
     """
 
     dofs: tuple[str, ...]
     connectivity: np.ndarray
     reach: int = 1
     n_tools: int = 0
+    friction: float = 0.0
+    unilateral_fallback: bool = True
+    opening_law: str | None = None
 
     # ------------------------------------------------------------------ required
     @abstractmethod
@@ -280,6 +346,56 @@ class InteractionBlock(ReadOnlyState, ABC):
         ``state`` (k,) int, the tool's prescribed translation from load factor ``start`` to
         ``end`` (k, 3), mm; zero for a tool that stays), so that an increment can start with
         them carried along instead of the tool inside them. The default: None."""
+        return None
+
+    def released(self, history: Any) -> Any:
+        """``history`` without a frozen set or a solver's marker, so that the block's law is
+        its explicit one: asked of a block whose ``opening_law`` is "ramp" at the first
+        increment of a phase (solvers/newton.py ``on_ramp``). The default returns it as it
+        is."""
+        return history
+
+    def gaps_decide(self, history: Any) -> bool:
+        """Whether the block's forces at any state are decided by its gaps alone under
+        ``history`` (nothing in it, such as friction anchors, that a probe of the path could
+        carry past a limit): the static solver may then curve its steps
+        (solvers/newton.py ``curves_with_contact``). The default: only without a history
+        (None); the ply contact's sides, held through an increment, count as none."""
+        return history is None
+
+    def set_model(self, state: State, history: Any, frames: Any, dofs: Any) -> dict | None:
+        """The linear model of the block's frozen active set at ``state``, from which the
+        static solver predicts the next set (solvers/contact_sets.py): a dict of the points
+        that may switch ("points" (r,)), the entries of dg/dq in the generalised unknowns of
+        ``dofs`` in ``frames`` ("slots", "values" (r, 30)), "gap" (r,) mm, "stiffness" (r,)
+        N/mm, "active" (r,) bool and "pressure" (r,) N (elements/ply_active_set.py). The
+        default, None: no set to predict (asked of every interaction at every iteration)."""
+        return None
+
+    def with_set(
+        self, history: Any, points: np.ndarray, active: np.ndarray, pressure: np.ndarray
+    ) -> Any:
+        """``history`` with the frozen set's members ``active`` (r,) bool and multipliers
+        ``pressure`` (r,) N at the rows ``points`` (r,) of ``set_model``: asked only of a block
+        whose ``set_model`` gave a model, which must override it."""
+        raise NotImplementedError(
+            f"{type(self).__name__} gives no set model, so no set to change (set_model)"
+        )
+
+    @contextmanager
+    def softened_penalty(self, share: float) -> Iterator[bool]:
+        """Inside the block, the penalty of the block's contact times ``share`` (0, 1] if it
+        takes a soft start, restored after it, even on an error; yields whether it does
+        (Static's ``ply_penalty_start``, solvers/penalty_start.py: Newton converges an
+        increment on the soft law first). The default keeps its penalty: a block whose
+        history holds the penalty's past (friction anchors) or that has none."""
+        yield False
+
+    def facet_record(self) -> FacetRecord | None:
+        """The facets of a meshed rigid tool the block's rows touched in its last evaluations
+        (``FacetRecord``), for the static solver's stop message; None by default: no meshed
+        tool, or one whose normal is continuous across its edges (smoothed), with no crease
+        to name."""
         return None
 
     def augment(self, state: State, history: Any) -> tuple[Any, dict | None]:

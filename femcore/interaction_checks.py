@@ -20,7 +20,10 @@ kit imports no test framework.
   was;
 * ``check_added_force``: ``add_internal_force`` adds what ``internal_force`` returns, bit for
   bit (how the model sums its parts);
-* ``check_interaction``: the first two and the last two at one state.
+* ``check_interaction_capabilities`` (femcore/capability_checks.py): the capabilities the
+  block declares through the protocol (friction, contact sets, a soft start, a meshed tool's
+  facets) are of their type and do what the solvers assume;
+* ``check_interaction``: the first two and the last three at one state.
 
 Tolerances. Derivatives are central differences with a step h (default 1e-6 of the size of
 the nodes' bounding box, 1e-6 rad for rotations): their truncation error is O(h^2) relative
@@ -50,6 +53,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from femcore.assembly import CellTangent, SparseTangent
+from femcore.capability_checks import check_interaction_capabilities
 from femcore.interaction import InteractionBlock
 from femcore.rotation import nodal_frames, rotate_about
 from femcore.state import State
@@ -60,6 +64,7 @@ __all__ = [
     "check_force_is_energy_gradient",
     "check_friction",
     "check_interaction",
+    "check_interaction_capabilities",
     "check_normal_force",
     "check_objectivity",
     "check_tangent",
@@ -469,7 +474,7 @@ def check_friction(
     elif stuck is None or sliding is None or normal is None:
         raise ValueError("check_friction at given nodes needs stuck, sliding and normal")
     nodes = np.asarray(nodes, dtype=np.int64)
-    mu = float(getattr(block, "friction", 0.0) if friction is None else friction)
+    mu = float(block.friction if friction is None else friction)
     if stuck is None or sliding is None:
         touch, tangential = getattr(block, "touch", None), getattr(block, "tangential", None)
         if touch is None or tangential is None:
@@ -640,10 +645,11 @@ def check_interaction(
     step: float | None = None,
     rtol: float = 1e-6,
 ) -> None:
-    """``check_force_is_energy_gradient``, ``check_tangent``, ``check_energy`` and
-    ``check_added_force`` at one state (the checks that need no tool, no rotation and no
-    placement)."""
+    """``check_force_is_energy_gradient``, ``check_tangent``, ``check_energy``,
+    ``check_added_force`` and ``check_interaction_capabilities`` at one state (the checks
+    that need no tool, no rotation and no placement)."""
     check_force_is_energy_gradient(block, state, history, step, rtol)
     check_tangent(block, state, history, step, rtol)
     check_energy(block, state, history)
     check_added_force(block, state, history)
+    check_interaction_capabilities(block, state, history)

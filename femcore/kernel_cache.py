@@ -19,7 +19,7 @@ numba then finds the function's cached builds stale, compiles it again and saves
 build in place of the old ones (no pile of stale builds beside the fresh one).
 
 The digest is taken when the kernel is made, as numba takes the stamp of its file: when its
-module is imported, right after the modules it imports (a kernel of elements/jit.py, built at
+module is imported, right after the modules it imports (a kernel of femcore/jit.py, built at
 its first call, takes the digest its wrapper took at import). Each file is read once per
 process. A file edited while a process runs (a test session lasts minutes) thus leaves the
 stamp of what the process imported, and the builds of the old code are not saved under the

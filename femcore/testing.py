@@ -18,7 +18,10 @@ conforms to the element protocol when, on a small free-floating model of it:
    rotary inertia where it has rotations);
 6. the stable step is safe (below 2 / omega_max of the assembled lumped system) and not
    needlessly small, at the reference and at deformed states;
-7. the stable step shrinks with the mesh.
+7. the stable step shrinks with the mesh;
+8. the capabilities the block declares through the protocol (a compression-free tangent,
+   fibre strains, fibre edges: femcore.capability_checks) are of their type and do what the
+   solvers assume.
 
 Usage, in a user's own tests (pytest or not; the kit does not import pytest)::
 
@@ -48,6 +51,7 @@ from typing import NamedTuple
 import numpy as np
 import scipy.linalg
 
+from femcore.capability_checks import check_element_capabilities
 from femcore.dofs import N_COLUMNS
 from femcore.element import ElementType
 from femcore.mesh import Mesh
@@ -72,6 +76,7 @@ __all__ = [
     "ElementCase",
     "EnergyPart",
     "NotApplicable",
+    "assert_declared_capabilities",
     "assert_lumped_mass",
     "assert_force_and_energy_agree",
     "assert_loads_are_the_energy_gradient",
@@ -629,6 +634,18 @@ def assert_stable_step_shrinks_with_the_mesh(case: ElementCase) -> None:
     assert low <= ratio <= high, f"{case}: step ratio {ratio:.4g} not in [{low}, {high}] ({why})"
 
 
+# ---------------------------------------------------------------------- 8. capabilities
+def assert_declared_capabilities(case: ElementCase) -> None:
+    """Check 8: the capabilities each block declares beyond forces, energies and tangents
+    (femcore.capability_checks ``check_element_capabilities``), at the reference and the
+    case's deformed state."""
+    model = case.model()
+    reference = model.initial_state()
+    deformed = case.deformed(model)
+    for i, block in enumerate(model.blocks):
+        check_element_capabilities(block, reference, deformed, deformed.history[i])
+
+
 # ---------------------------------------------------------------------- all of them
 def element_checks(case: ElementCase) -> Iterator[tuple[str, Callable[[], None]]]:
     """Every check of the element kit on ``case``, as (name, check) pairs in order."""
@@ -650,6 +667,7 @@ def element_checks(case: ElementCase) -> Iterator[tuple[str, Callable[[], None]]
         "stable step shrinks with the mesh",
         partial(assert_stable_step_shrinks_with_the_mesh, case),
     )
+    yield "declared capabilities", partial(assert_declared_capabilities, case)
 
 
 def check_element(

@@ -6,7 +6,7 @@ does each in milliseconds. OpenBLAS's default threads (as many as the cores) spi
 and then wait for a core: on this project's 2-core machine with other processes busy, the
 200-unknown eigh took 408 ms on OpenBLAS's two threads against 7 ms on one
 (``benchmarks/blas_threads.py``), and a static solve takes one per increment. The compiled
-kernels have their own threads (elements.jit), which follow the free cores; BLAS gains nothing
+kernels have their own threads (femcore.jit), which follow the free cores; BLAS gains nothing
 at these sizes, so it is held to one thread for the duration of a solve and given back after
 it: the caller's own numpy keeps its threads.
 """

@@ -34,6 +34,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 import scipy.sparse as sp
 
+from femcore import interaction
 from femcore.state import State
 
 if TYPE_CHECKING:
@@ -89,20 +90,17 @@ def predicted_sets(
     history = list(state.history)
     pieces: list[tuple[int, Any, dict]] = []
     for i, part in enumerate(model.interactions):
-        if hasattr(part, "set_model"):
-            found = part.set_model(state, history[first + i], frames, dofs)
-            if found is not None and len(found["points"]):
-                pieces.append((first + i, part, found))
+        found = part.set_model(state, history[first + i], frames, dofs)
+        if found is not None and len(found["points"]):
+            pieces.append((first + i, part, found))
     if not pieces:
         return None
-    from elements import ply_active_set
-
     rows = SetRows.of(pieces, dofs, left)
     k = np.concatenate([found["stiffness"] for _, _, found in pieces])
     start = np.concatenate([found["active"] for _, _, found in pieces])
     pressure = np.concatenate([found["pressure"] for _, _, found in pieces])
     imposed = rows.imposed
-    pull = pressure if ply_active_set.HYSTERESIS else 0.0
+    pull = pressure if interaction.ACTIVE_SET_HYSTERESIS else 0.0  # the blocks' own rule
     active, step = start.copy(), delta_free
     # the set the factors hold, their step K^-1 (r_f - K_fp dq_p) and K^-1 G_i^T of the
     # points switched from it so far (column ``column_of[i]`` of ``solves``)

@@ -12,7 +12,7 @@ from collections.abc import Callable
 
 import numpy as np
 
-from elements.jit import chunk_size, chunk_sums, chunks, jit, prange, unsigned
+from femcore.jit import chunk_size, chunk_sums, chunks, jit, prange, unsigned
 from solvers.common import inverse_diagonal
 
 __all__ = [
@@ -56,8 +56,8 @@ def _update_rates(
 ):  # fmt: skip
     """The central-difference update of one kind of nodal rate (velocities or angular
     velocities, (n, 3)) fused with its support reactions and energy terms, in one pass over
-    the nodes (compiled by numba when it is installed, on the threads of elements/jit.py);
-    ``update_rates`` documents it. Each chunk of ``size`` nodes (elements/jit.py ``CHUNK``,
+    the nodes (compiled by numba when it is installed, on the threads of femcore/jit.py);
+    ``update_rates`` documents it. Each chunk of ``size`` nodes (femcore/jit.py ``CHUNK``,
     passed at each call) writes its energy terms to its row of ``partial`` (chunks, 8),
     summed in node order."""
     scale = 1.0 / (1.0 + 0.5 * damping * dt_bar)

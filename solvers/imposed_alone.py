@@ -39,7 +39,7 @@ def imposes_alone(model: CompiledModel) -> bool:
 
 
 def _stuck_by_its_tangent(part: InteractionBlock) -> bool:
-    return getattr(part, "friction", 0.0) > 0.0 and type(part).freeze is InteractionBlock.freeze
+    return part.friction > 0.0 and type(part).freeze is InteractionBlock.freeze
 
 
 def moves_prescribed(run: StaticRun, state: State, load_factor: float) -> bool:

@@ -193,7 +193,7 @@ def newton(
         # (``unilateral_fallback = False``: the ply contact's active set, whose unilateral law
         # is the plain penalty; elements/ply_active_set.py).
         if not any(
-            getattr(part, "unilateral_fallback", True)
+            part.unilateral_fallback
             for part in run.model.interactions
             if type(part).freeze is not InteractionBlock.freeze
         ):
@@ -216,7 +216,7 @@ def compression_free_ratio(ratio: float | None, model: CompiledModel) -> float:
     hemisphere drape cut more increments with it), else 0 (never)."""
     if ratio is not None:
         return ratio
-    offered = any(getattr(part, "compression_free_tangent", False) for part in model.parts)
+    offered = any(block.compression_free_tangent for block in model.blocks)
     return COMPRESSION_FREE if offered and not model.interactions else 0.0
 
 
@@ -230,9 +230,9 @@ def keeps_contact_sets(model: CompiledModel) -> bool:
 
 def _opening_on_ramp(part: InteractionBlock) -> bool:
     """Whether the interaction ``part``'s law under Static opens each phase of the load path
-    with its explicit law (``opening_law == "ramp"``, with a ``released`` history: the ply
+    with its explicit law (``opening_law == "ramp"``, its history ``released``: the ply
     contact's active set, elements/ply_active_set.py)."""
-    return getattr(part, "opening_law", None) == "ramp" and hasattr(part, "released")
+    return part.opening_law == "ramp"
 
 
 def opens_on_ramp(model: CompiledModel) -> bool:
@@ -248,7 +248,7 @@ def on_ramp(model: CompiledModel, history: tuple) -> tuple:
     entries = list(history)
     for i, part in enumerate(model.interactions):
         if _opening_on_ramp(part):
-            entries[first + i] = part.released(entries[first + i])  # type: ignore[attr-defined]
+            entries[first + i] = part.released(entries[first + i])
     return tuple(entries)
 
 
@@ -258,12 +258,15 @@ def curves_with_contact(model: CompiledModel, history: tuple) -> bool:
     contact's active set do: their steps are never curved) or a history
     beyond the gaps' (the plies' friction: its return mapping may cross a stick limit on a
     probe of the path; on a frictional two-ply deck 54 curved steps took 302 iterations cut
-    against 47 uncurved). The plies' sides (``gaps_decide``, elements/ply_sides.py), held
-    through an increment, count as none."""
+    against 47 uncurved). The plies' sides (``InteractionBlock.gaps_decide``,
+    elements/ply_block.py), held through an increment, count as none."""
     if keeps_contact_sets(model):
         return False
     first = len(model.parts) - len(model.interactions)
-    return all(entry is None or getattr(entry, "gaps_decide", False) for entry in history[first:])
+    return all(
+        part.gaps_decide(entry)
+        for part, entry in zip(model.interactions, history[first:], strict=True)
+    )
 
 
 def _newton(

@@ -51,9 +51,9 @@ PROJECTION_TOLERANCE = 1e-12
 
 
 def fibre_edges(model: CompiledModel) -> np.ndarray:
-    """(k, 2) node pairs of the fibre edges of every block that gives them (a method
-    ``fibre_edges()`` of the block), each edge once; (0, 2) when there are none."""
-    pairs = [part.fibre_edges() for part in model.parts if hasattr(part, "fibre_edges")]
+    """(k, 2) node pairs of the fibre edges of every element block that gives them (its
+    ``fibre_edges()``, femcore.element), each edge once; (0, 2) when there are none."""
+    pairs = [edges for block in model.blocks if len(edges := block.fibre_edges())]
     if not pairs:
         return np.zeros((0, 2), dtype=np.int64)
     edges = np.sort(np.concatenate(pairs).astype(np.int64), axis=1)

@@ -69,7 +69,7 @@ line 7, docs/theory.md §6.5): the projection is Static's default on a fibrous m
 from __future__ import annotations
 
 from dataclasses import replace
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
 
 import numpy as np
 import scipy.sparse as sp
@@ -83,6 +83,7 @@ from solvers.linear import LinearSolver
 
 if TYPE_CHECKING:
     from femcore.dofs import Frames
+    from femcore.element import ElementBlock
     from femcore.state import State
     from solvers.static import StaticRun
 
@@ -120,17 +121,14 @@ PERTURB = 1e-7
 
 class LevelStrains:
     """The level-strain projection of a model's Newton steps (module docstring), over the
-    blocks that give ``fibre_strains(state) -> (m, p)`` and ``fibre_strain_gradient(state)``
-    (elements/fibrous/level_jacobian.py); false when there are none."""
+    element blocks that give ``fibre_strains(state) -> (m, p)`` and
+    ``fibre_strain_gradient(state)`` (``has_fibre_strains``, femcore.element;
+    elements/fibrous/level_jacobian.py); false when there are none."""
 
     def __init__(self, model: CompiledModel):
         self.model = model
         # The blocks that give their level measures and those measures' gradient.
-        self.parts: list[Any] = [
-            p
-            for p in model.parts
-            if hasattr(p, "fibre_strains") and hasattr(p, "fibre_strain_gradient")
-        ]
+        self.parts: list[ElementBlock] = [p for p in model.blocks if p.has_fibre_strains]
         if not self.parts:
             return
         dofs = model.dofs

@@ -1,8 +1,9 @@
 """An increment started with soft ply contacts (``Static(ply_penalty_start=share)``;
 docs/theory.md §6.5, "The deck's last increment").
 
-Newton first converges the increment with the penalties of the frictionless ply contacts
-(elements/ply_block.py) times ``share``, then goes on from that equilibrium with the full
+Newton first converges the increment with the penalties of the interactions that take a soft
+start (``InteractionBlock.softened_penalty``: the frictionless ply contacts,
+elements/ply_block.py) times ``share``, then goes on from that equilibrium with the full
 penalties, to the equilibrium of the full law: the result is that of the plain increment
 within Newton's tolerance, and only the path to it changes. Where the plies need almost no
 contact force (plies-deck-of-cards' decks), the full penalty makes the plies' gap mode, their
@@ -16,10 +17,9 @@ mapping hold the penalty's history), and so does every other interaction.
 from __future__ import annotations
 
 from collections.abc import Iterator
-from contextlib import contextmanager
+from contextlib import ExitStack, contextmanager
 from typing import TYPE_CHECKING
 
-from elements.ply_block import PlyContactBlock
 from solvers.newton import IncrementFailed, newton
 
 if TYPE_CHECKING:
@@ -32,21 +32,12 @@ __all__ = ["newton_with_soft_start", "softened"]
 
 @contextmanager
 def softened(model: CompiledModel, share: float) -> Iterator[bool]:
-    """The frictionless ply contacts of ``model`` with their penalties times ``share`` inside
-    the block, restored after it; yields whether there is one."""
-    blocks = [
-        part
-        for part in model.interactions
-        if isinstance(part, PlyContactBlock) and part.friction == 0.0
-    ]
-    kept = [block.node_stiffness for block in blocks]
-    try:
-        for block, stiffness in zip(blocks, kept):
-            block.set_penalty(share * stiffness)
-        yield bool(blocks)
-    finally:
-        for block, stiffness in zip(blocks, kept):
-            block.set_penalty(stiffness)
+    """The interactions of ``model`` that take a soft start (the frictionless ply contacts)
+    with their penalties times ``share`` inside the block, restored after it, even on an
+    error (each block's ``softened_penalty``); yields whether there is one."""
+    with ExitStack() as stack:
+        soft = [stack.enter_context(part.softened_penalty(share)) for part in model.interactions]
+        yield any(soft)
 
 
 @contextmanager

@@ -45,14 +45,13 @@ def crossing_cycles(model: Any) -> list[dict[str, Any]]:
     body's node id), ``tool`` (the interaction's index), ``facets`` (the two), ``angle_deg``
     between their normals, ``switches``, ``edge`` (2, 3) its end points, mm."""
     found: list[dict[str, Any]] = []
-    for index, part in enumerate(getattr(model, "interactions", [])):
-        tool: Any = getattr(part, "tool", None)
-        connectivity = getattr(part, "connectivity", None)
-        if not hasattr(tool, "facet_record") or connectivity is None:
+    for index, part in enumerate(model.interactions):
+        # None for an analytic tool, and a smoothed one, whose normal is continuous across
+        # its edges: no crease (femcore.interaction ``facet_record``)
+        facets = part.facet_record()
+        if facets is None:
             continue
-        if getattr(tool, "smooth", False):
-            continue  # a smoothed tool's normal is continuous across its edges: no crease
-        record = tool.facet_record()
+        record, connectivity = facets.record, part.connectivity
         if record.shape[0] != len(connectivity) or record.shape[1] <= CYCLE_SWITCHES:
             continue
         low, high = record.min(axis=1), record.max(axis=1)
@@ -64,10 +63,10 @@ def crossing_cycles(model: Any) -> list[dict[str, Any]]:
         switches = np.count_nonzero(np.diff(record, axis=1), axis=1)
         for row in np.flatnonzero(two & (switches >= CYCLE_SWITCHES)):
             a, b = int(low[row]), int(high[row])
-            shared = _shared_corners(tool.corners[a], tool.corners[b])
+            shared = _shared_corners(facets.corners[a], facets.corners[b])
             if len(shared) != 2:
                 continue  # facets meeting at a vertex only, or apart: not an edge's crease
-            cosine = float(np.clip(tool.normals[a] @ tool.normals[b], -1.0, 1.0))
+            cosine = float(np.clip(facets.normals[a] @ facets.normals[b], -1.0, 1.0))
             angle = float(np.degrees(np.arccos(cosine)))
             if angle < CREASE_DEG:
                 continue  # coplanar facets (a flange): the normal does not jump there
@@ -129,7 +128,7 @@ def stop_hint(model: Any, positions: np.ndarray | None, path: str) -> str:
     cause = describe_cycles(model, positions)
     if cause:
         return f"; {cause}"
-    if getattr(model, "interactions", None):
+    if model.interactions:
         # A contact closing, opening or sliding inside an increment stops Newton more often
         # than a limit point does, and a path along a limit point (arc length) does not help
         # there; smaller increments meet the contact's events one at a time.

@@ -10,7 +10,7 @@ in a dozen numpy passes over (n, 3) arrays (a fifth of a Mindlin step at 100k tr
 ``solvers.step.rotational_update`` is that numpy reference, and the tests hold the two to
 1e-12. ``rates`` and ``move`` are the same loops without the energy terms: the
 ``angular_rates`` and ``advance`` that dynamic relaxation moves with. The loops run over
-the nodes on the threads of elements/jit.py (each node's update is its own, the same on any
+the nodes on the threads of femcore/jit.py (each node's update is its own, the same on any
 thread count); ``_turn`` sums its energy terms a chunk of ``CHUNK`` nodes at a time, in node
 order within a chunk, and the chunks' sums in chunk order (``chunk_sums``): the same to the
 last bit on any number of threads. Serial, the rotation update of the 100k-triangle forming
@@ -22,8 +22,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from elements.jit import chunk_size, chunk_sums, chunks, jit, prange, unsigned
 from femcore import kernel_cache
+from femcore.jit import chunk_size, chunk_sums, chunks, jit, prange, unsigned
 from femcore.rotation import frame_of, turned
 
 __all__ = ["COMPILED", "move", "rates", "turn"]
@@ -53,7 +53,7 @@ def _turn(
 ):  # fmt: skip
     """See ``turn``; the outputs are written into new_omega, reaction, new_directors,
     new_positions (n, 3) and partial (chunks, 8): each chunk's energy terms (``chunks``), a
-    chunk ``size`` nodes (elements/jit.py ``CHUNK``, passed at each call)."""
+    chunk ``size`` nodes (femcore/jit.py ``CHUNK``, passed at each call)."""
     scale = 1.0 / (1.0 + 0.5 * damping * dt_bar)
     keep = 1.0 - 0.5 * damping * dt_bar
     n = omega.shape[0]

@@ -33,8 +33,8 @@ import pytest  # noqa: E402
 from coarse_report import CoarseReport  # noqa: E402
 from run_once import run_once  # noqa: E402
 
-from elements import jit, kernels  # noqa: E402
-from femcore import Mesh  # noqa: E402
+from elements import kernels  # noqa: E402
+from femcore import Mesh, jit  # noqa: E402
 from validation import specimens  # noqa: E402
 
 # The coarse report's folder, shared by the session's processes: chosen by the pytest process
@@ -244,9 +244,9 @@ def one_numba_thread():
 @pytest.fixture(autouse=True)
 def all_numba_threads_if_parallel(request, one_numba_thread):
     """numba's default thread count for a test marked ``parallel``, on every loop whatever
-    its size and the machine's load (elements.jit would run these small models on one): these
+    its size and the machine's load (femcore.jit would run these small models on one): these
     tests run each kernel's parallel build (its parts on threads of their own), the others its
-    plain build (elements/jit.py ``_Parallel``)."""
+    plain build (femcore/jit.py ``_Parallel``)."""
     if not kernels.AVAILABLE or request.node.get_closest_marker("parallel") is None:
         yield
         return

@@ -61,7 +61,7 @@ def test_two_processes_asking_for_a_kernel_at_once_build_it_once(tmp_path, monke
 
 def test_the_projects_kernels_compile_under_their_locks():
     # Every kernel of the project is made by femcore.kernel_cache.njit: a helper, the plain
-    # and the parallel build of a loop (elements/jit.py), in any process (the report's
+    # and the parallel build of a loop (femcore/jit.py), in any process (the report's
     # workers too), beside its cache index.
     loop = kernels._node_sums
     for dispatcher in (kernels._base_vectors, loop.serial, loop.parallel):

@@ -106,6 +106,12 @@ def test_stable_step_shrinks_with_the_mesh(case: ElementCase):
     run(testing.assert_stable_step_shrinks_with_the_mesh, case)
 
 
+# ---------------------------------------------------------------------- 8. capabilities
+@case_parameter
+def test_the_capabilities_a_block_declares_are_what_the_solvers_assume(case: ElementCase):
+    run(testing.assert_declared_capabilities, case)
+
+
 # ---------------------------------------------------------------------- the kit's report
 def test_the_kit_reports_every_check_of_a_case_and_names_a_failure():
     report = testing.check_element(CASES[0])

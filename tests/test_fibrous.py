@@ -615,8 +615,8 @@ def test_each_compiled_loop_has_one_signature():
     floats writable (``loop_array``): the build, which passes the mesh's read-only points, and
     the steps, which pass the state's, run the same machine code (numba types a read-only
     array apart and would build the loop twice)."""
-    from elements import jit
     from elements.fibrous import geometry_kernels
+    from femcore import jit
 
     if not jit.AVAILABLE:
         pytest.skip("numba is not installed")
@@ -632,7 +632,7 @@ def test_each_compiled_loop_has_one_signature():
         geometry_kernels._side_folds,
         geometry_kernels._bending_sides,
     ):
-        # the builds that ran (elements/jit.py ``_Parallel``: the plain one on one thread)
+        # the builds that ran (femcore/jit.py ``_Parallel``: the plain one on one thread)
         builds = [b for b in (loop.serial, loop._parallel) if b is not None and b.signatures]
         assert builds, loop.__name__
         for build in builds:

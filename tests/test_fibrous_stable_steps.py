@@ -5,8 +5,8 @@ steps to the last bit, on one thread and on all of numba's."""
 import numpy as np
 import pytest
 
-from elements import FibrousShell, jit
-from femcore import Mesh, Model
+from elements import FibrousShell
+from femcore import Mesh, Model, jit
 from materials import Fabric
 from tests.thread_runs import on_one_thread_and_on_all
 

@@ -29,6 +29,7 @@ from femcore.interaction_checks import (
     check_force_is_energy_gradient,
     check_friction,
     check_interaction,
+    check_interaction_capabilities,
     check_normal_force,
     check_objectivity,
     check_tangent,
@@ -134,6 +135,22 @@ def test_contact_friction_obeys_coulomb(name):
 @pytest.mark.parametrize("name", TOOLS)
 def test_contact_is_objective(name, friction):
     check_objectivity(lambda turn: contact(name, turn, friction), TURN)
+
+
+@pytest.mark.parametrize("friction", [0.0, MU], ids=["frictionless", "friction"])
+@pytest.mark.parametrize("name", TOOLS)
+def test_contact_declares_its_capabilities_as_the_protocol_says(name, friction):
+    """Friction, contact sets, soft start and facets (femcore/capability_checks.py); a meshed
+    tool's facets recorded once Static's ``freeze`` has asked for them."""
+    block, state, history = contact(name, friction=friction)
+    frozen, _ = block.freeze(state, history)
+    block.internal_force(state, frozen)
+    check_interaction_capabilities(block, state, frozen)
+    assert block.friction == friction
+    facets = block.facet_record()
+    assert (facets is not None) == (name == "meshed")
+    if facets is not None:
+        assert facets.record.shape == (len(block.connectivity), 1)
 
 
 # ---------------------------------------------------------------------- a user's own

@@ -1,4 +1,4 @@
-"""numba's two builds of a kernel (elements/jit.py ``_Parallel``): a loop on one thread runs
+"""numba's two builds of a kernel (femcore/jit.py ``_Parallel``): a loop on one thread runs
 the plain build of the kernel's parted copy and leaves the parallel one uncompiled; a loop on
 more threads runs the parallel build, a loop over parts each run by the plain build on a
 thread of its own; both give the same numbers to the last bit, and are cached apart."""
@@ -6,7 +6,7 @@ thread of its own; both give the same numbers to the last bit, and are cached ap
 import numpy as np
 import pytest
 
-from elements import jit
+from femcore import jit
 
 if jit.AVAILABLE:
     from numba import get_thread_id
@@ -70,7 +70,7 @@ def test_a_loop_on_more_threads_runs_the_plain_build_in_parts_with_the_same_numb
 @pytest.mark.parallel
 def test_the_loop_over_the_parts_calls_the_plain_build_s_own_code_and_links_none_of_it():
     """The parallel build calls the plain build's machine code through its address
-    (elements/jit.py ``_over_parts``): nothing of the plain build is in the loop's module,
+    (femcore/jit.py ``_over_parts``): nothing of the plain build is in the loop's module,
     where numba would optimise and compile it again (the fibrous force pass's loop over the
     parts took 27.2 s of CPU so, 1.2 s through the address: benchmarks/
     suite_parallel_build.py). The same numbers to the last bit."""
@@ -237,7 +237,7 @@ def test_a_kernel_whose_file_changed_since_its_import_keeps_its_imported_code(tm
 
     path = tmp_path / "edited_kernel.py"
     source = (
-        "from elements import jit\n\n\n"
+        "from femcore import jit\n\n\n"
         "def add(out):\n"
         "    for i in jit.prange(out.shape[0]):\n"
         "        out[i] = out[i] + 1.0\n"

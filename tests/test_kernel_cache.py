@@ -1,7 +1,7 @@
 """numba's disk cache of the project's kernels (femcore/kernel_cache.py): a cached build is
 stale when a project module the kernel's file imports has changed, not only the kernel's own
 file; and the loops that sum a chunk of nodes at a time take the chunk size of the call
-(elements/jit.py ``chunk_size``), never one frozen into their build."""
+(femcore/jit.py ``chunk_size``), never one frozen into their build."""
 
 import importlib
 import os
@@ -13,8 +13,7 @@ import sys
 import numpy as np
 import pytest
 
-from elements import jit
-from femcore import kernel_cache
+from femcore import jit, kernel_cache
 
 pytestmark = pytest.mark.skipif(not jit.AVAILABLE, reason="numba is not installed")
 
@@ -100,9 +99,9 @@ def test_the_files_a_kernel_depends_on_follow_its_module_s_imports():
     fibrous = names("elements/fibrous/kernels.py")
     for module in ("level_lanes", "packed_laws", "cell_terms", "geometry_kernels", "kernels"):
         assert f"elements/fibrous/{module}.py" in fibrous
-    assert {"elements/lane_maths.py", "elements/jit.py", "femcore/kernel_cache.py"} <= fibrous
+    assert {"elements/lane_maths.py", "femcore/jit.py", "femcore/kernel_cache.py"} <= fibrous
     turning = names("solvers/turning.py")
-    assert {"solvers/turning.py", "femcore/rotation.py", "elements/jit.py"} <= turning
+    assert {"solvers/turning.py", "femcore/rotation.py", "femcore/jit.py"} <= turning
     assert "elements/fibrous/kernels.py" not in turning  # only what it imports
     digest = kernel_cache.dependency_digest(root / "solvers/turning.py")
     assert digest == kernel_cache.dependency_digest(root / "solvers" / ".." / "solvers/turning.py")
@@ -161,7 +160,7 @@ def test_every_kernel_of_the_library_is_cached_by_the_project_cache():
 @pytest.mark.parametrize("size", [2048, 700])
 def test_the_node_loops_sum_by_the_chunk_size_of_the_call(monkeypatch, size):
     """update_rates and turn walk chunks of the chunk size the Python side sized its sums
-    for (elements/jit.py ``CHUNK`` read at each call, handed to the kernel): with CHUNK
+    for (femcore/jit.py ``CHUNK`` read at each call, handed to the kernel): with CHUNK
     changed after the kernels were built, every node is updated and the kinetic energies
     are 1/2 sum m v^2 of the new rates. A kernel that read CHUNK itself kept 1024: with
     2048, 952 of 3000 nodes kept np.empty's values (the reviewer's finding)."""
@@ -207,7 +206,7 @@ def test_the_stamp_is_the_one_of_the_modules_as_imported(tmp_path, monkeypatch):
     (package / "__init__.py").write_text("")
     (package / "constants.py").write_text("SCALE = 2.0\n")
     (package / "kernel.py").write_text(
-        "from elements import jit\n\nfrom .constants import SCALE\n\n\n"
+        "from femcore import jit\n\nfrom .constants import SCALE\n\n\n"
         "def scale(out):\n"
         "    for i in jit.prange(out.shape[0]):\n"
         "        out[i] = SCALE * out[i]\n"
@@ -246,13 +245,13 @@ def test_only_the_project_s_packages_are_followed(tmp_path, monkeypatch):
 def test_the_library_imports_and_runs_with_numba_s_jit_disabled():
     """NUMBA_DISABLE_JIT=1 (a kernel debugged in Python) gives the plain functions, which
     have nothing to cache: the packages import and a rotation kernel runs, and a loop that
-    would run on two threads runs whole in Python (part 0 of 1) (elements/jit.py; an
+    would run on two threads runs whole in Python (part 0 of 1) (femcore/jit.py; an
     AttributeError before, the loop over the parts asking a Python function for its
     numba build)."""
     code = (
         "import numpy as np, femcore, elements, solvers\n"
         "from femcore.rotation import nodal_frames\n"
-        "from elements import jit\n"
+        "from femcore import jit\n"
         "from elements.node_rows import shifted\n"
         "print(nodal_frames(np.array([[0.0, 0.0, 1.0]]))[0].shape)\n"
         "jit.SMALL_LOOP, jit.FOLLOW_LOAD = 0, False  # every loop on numba's 2 threads\n"

@@ -23,7 +23,6 @@ import numpy as np
 import pytest
 
 from elements import (
-    jit,
     node_rows,
     ply_cut_kernels,
     ply_edge_couple_kernels,
@@ -32,6 +31,7 @@ from elements import (
     ply_friction_kernels,
     ply_projection,
 )
+from femcore import jit
 
 pytestmark = pytest.mark.skipif(not jit.AVAILABLE, reason="numba is not installed")
 

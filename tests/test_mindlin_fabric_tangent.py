@@ -179,7 +179,7 @@ def test_the_compiled_section_measures_are_the_numpy_ones_to_1e_12(mesh):
 def test_the_fabric_loops_are_parted_so_no_thread_shares_a_cells_scratch():
     # A loop that allocates its scratch before the prange keeps numba's parallel build, whose
     # threads share that scratch (a race: one run of the same-bits test above failed so);
-    # allocated per chunk of cells, the loop runs as parts of the plain build (elements/jit.py).
+    # allocated per chunk of cells, the loop runs as parts of the plain build (femcore/jit.py).
     from elements import mindlin_fabric_loads, mindlin_fabric_measures, mindlin_fabric_tangent
 
     for kernel in (

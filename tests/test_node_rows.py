@@ -5,8 +5,9 @@ adds its forces into the model's sums in place as the sum of its ``internal_forc
 import numpy as np
 import pytest
 
-from elements import jit, node_rows
+from elements import node_rows
 from elements.node_rows import add_node_forces, distinct_nodes, row_sums, shifted
+from femcore import jit
 from femcore.assembly import Scatter
 from validation.cases import hemisphere_forming
 

@@ -7,12 +7,11 @@ the set's rule, and the sag's equilibrium against the ramp's and the heavy elast
 import numpy as np
 import pytest
 
-from elements import ply_active_set
 from elements.plies import PlyStack
 from elements.ply_active_set import ActiveSetPlyContactBlock, FrozenSides
 from elements.ply_contact import PlyContact
 from elements.ply_projection import penalty_law
-from femcore import Mesh
+from femcore import Mesh, interaction
 from femcore.interaction_checks import check_force_is_energy_gradient, check_tangent
 from femcore.state import State
 from materials import Fabric
@@ -193,8 +192,9 @@ def test_the_set_follows_the_primal_dual_rule():
 
 
 def test_the_rule_without_hysteresis_is_the_gaps_sign(monkeypatch):
-    """``HYSTERESIS = False``: the set is the points of g < 0 at every iterate."""
-    monkeypatch.setattr(ply_active_set, "HYSTERESIS", False)
+    """``ACTIVE_SET_HYSTERESIS = False`` (femcore.interaction): the set is the points of g < 0
+    at every iterate."""
+    monkeypatch.setattr(interaction, "ACTIVE_SET_HYSTERESIS", False)
     stack, _, active = _pair("active_set")
     frozen, _ = active.freeze(_pressed(stack, 1e-3), active.initial_history())
     left, _ = active.freeze(_pressed(stack, -0.5e-3), frozen, grow=True)

@@ -129,8 +129,9 @@ def test_the_two_calls_are_built_once_for_read_only_and_writable_faces(monkeypat
     """The fan of tests/test_ply_wedge.py faced by its block with its kept (read-only) faces,
     then with fresh writable ones: each of the two compiled calls holds one build (a second
     would be the same machine code compiled again, tests/test_ply_kernel_signatures.py)."""
-    from elements import jit, ply_face_points
+    from elements import ply_face_points
     from elements import ply_facing_whole as whole
+    from femcore import jit
     from femcore.state import State
     from tests.test_ply_wedge import _fan
 

@@ -14,7 +14,6 @@ import pytest
 from test_ply_wedge import _fan
 
 from elements import (
-    jit,
     ply_choice,
     ply_chosen,
     ply_edge_kernels,
@@ -30,6 +29,7 @@ from elements import (
     ply_search,
 )
 from elements.kernel_inputs import read_only
+from femcore import jit
 from femcore.state import State
 
 pytestmark = pytest.mark.skipif(not jit.AVAILABLE, reason="numba is not installed")
@@ -119,7 +119,7 @@ def test_each_ply_kernel_is_built_once_for_read_only_and_writable_inputs(monkeyp
 
 def test_the_fused_passes_run_the_kernels_own_plain_builds(monkeypatch):
     """The fused passes (elements/ply_facing_pass.py, ply_facing_whole.py,
-    ply_friction_pass.py) run each stage by its kernel's own plain build (elements/jit.py
+    ply_friction_pass.py) run each stage by its kernel's own plain build (femcore/jit.py
     ``plain_part``), with argument types the kernel's wrapper gives it: the fan faced by
     the fused pass (a small facing without the gap's Hessian) and then by the chained
     kernels adds at most one build to each. A helper compiled apart from the same source was

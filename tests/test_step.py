@@ -120,7 +120,7 @@ def test_the_fused_rotational_update_is_the_numpy_one(fix_rotations, checking, c
     directors, positions, angular velocities, support moments and energy terms of
     ``rotational_update``, the public pieces in numpy, to 1e-12, with damping and a
     variable step; on 35 nodes (one chunk of the energy sums) and 2501 (three chunks of
-    elements.jit.CHUNK)."""
+    femcore.jit.CHUNK)."""
     compiled, state = turned_plate(fix_rotations, cells)
     masses = LumpedMasses.of(compiled, state)
     dt = 0.5 * compiled.stable_dt(state)

@@ -6,11 +6,27 @@ smaller increments for an arc-length one."""
 
 from types import SimpleNamespace
 
+import numpy as np
+
+from femcore.interaction import InteractionBlock
 from solvers.stop_diagnosis import stop_hint
 
 
+class _Tie(InteractionBlock):
+    """An interaction without a meshed tool (its ``facet_record`` the protocol's None)."""
+
+    dofs = ("ux", "uy", "uz")
+    connectivity = np.zeros((0, 2), dtype=np.int64)
+
+    def internal_force(self, state, history=None):
+        return np.zeros_like(state.positions), None
+
+    def strain_energy(self, state, history=None):
+        return 0.0
+
+
 def test_a_model_with_contacts_is_sent_to_more_increments_not_to_the_arc_length():
-    hint = stop_hint(SimpleNamespace(interactions=[object()]), None, "load")
+    hint = stop_hint(SimpleNamespace(interactions=[_Tie()]), None, "load")
     assert "interactions (contacts" in hint and "more increments" in hint
     assert "try path='arc_length'" not in hint
 

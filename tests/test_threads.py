@@ -1,4 +1,4 @@
-"""The threads of the compiled kernels (elements/jit.py): a wait that does not spin, one
+"""The threads of the compiled kernels (femcore/jit.py): a wait that does not spin, one
 thread for small loops, the free cores at most, the same numbers on any thread count."""
 
 import os
@@ -9,8 +9,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from elements import FibrousShell, jit
-from femcore import Mesh, Model
+from elements import FibrousShell
+from femcore import Mesh, Model, jit
 from materials import Fabric
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -102,7 +102,8 @@ def test_numbas_threads_wait_passively_on_the_openmp_layer():
     with OMP_WAIT_POLICY=PASSIVE (its threads sleep between loops instead of spinning); a
     policy given in the environment is kept. Two subprocesses: 5-30 s."""
     script = (
-        "import os, numba; import numpy as np; from elements import jit, kernels;"
+        "import os, numba; import numpy as np; from femcore import jit;"
+        "from elements import kernels;"
         "jit.SMALL_LOOP, jit.FOLLOW_LOAD = 0, False;"  # on 2 threads
         "kernels.NodeCorners(np.arange(6).reshape(2, 3), 6).sum(np.ones((2, 3, 3)));"
         "print(numba.threading_layer(), os.environ['OMP_WAIT_POLICY'])"

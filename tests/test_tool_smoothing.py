@@ -155,12 +155,15 @@ def test_a_node_cycling_across_an_edge_of_a_smoothed_tool_names_no_crease():
     found = []
     for smooth in (False, True):
         tool = faceted_trough(smooth)
+        # a contact of one node with the tool (its record's one row), bound before the calls
+        part = Contact(tool, np.array([0]), 0.0, 1.0).bind(
+            Body.bare(Mesh.line([0.0, 0.0, 0.0], [1.0, 0.0, 0.0], 1))
+        )
         tool.record_facets = True  # as a frozen contact (Static) keeps it
         for a in angle:
             tool.distance(
                 np.array([[(RADIUS - 0.1) * np.sin(a), 0.0, -(RADIUS - 0.1) * np.cos(a)]])
             )
-        part = SimpleNamespace(tool=tool, connectivity=np.array([[0]]))
         found.append(crossing_cycles(SimpleNamespace(interactions=[part])))
     assert len(found[0]) == 1 and found[0][0]["switches"] == 15
     assert abs(found[0][0]["angle_deg"] - FACET_DEG) < 1e-9

@@ -8,7 +8,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from elements import jit
+from femcore import jit
 from validation import report as report_module
 from validation.__main__ import main, parse
 from validation.cases import CASES, PAPER_CASES

@@ -1,5 +1,5 @@
 """A call run with numba's loops on one thread and again on all of its threads: the compiled
-kernels' tests hold the two to the same bits (elements/jit.py sums in the same order on any
+kernels' tests hold the two to the same bits (femcore/jit.py sums in the same order on any
 thread count)."""
 
 from collections.abc import Callable
@@ -7,7 +7,7 @@ from typing import Any
 
 import numba
 
-from elements import jit
+from femcore import jit
 
 
 def on_one_thread_and_on_all(call: Callable[[], Any]) -> tuple[Any, Any]:

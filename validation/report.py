@@ -39,7 +39,7 @@ from typing import Any
 import numba
 import numpy as np
 
-from elements.jit import free_cores
+from femcore.jit import free_cores
 from validation.cases import CASES
 from validation.records import Case, CaseResult, Figure, Outcome, Report
 from validation.report_html import INTRODUCTION, STYLE, render_html
@@ -338,7 +338,7 @@ def schedule_tasks(
 
 
 def default_jobs() -> int:
-    """The cases run at once by default: the cores free for the report (elements.jit's
+    """The cases run at once by default: the cores free for the report (femcore.jit's
     ``free_cores``: those this process may run on less those other processes keep busy), at
     least one."""
     return free_cores()

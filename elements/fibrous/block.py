@@ -277,6 +277,8 @@ class FibrousShellBlock(ElementBlock):
         return np.unique(self.connectivity[geo["guarded"]])
 
     # ------------------------------------------------------------------ protocol
+    has_fibre_strains = True
+
     def fibre_strains(self, state: State) -> np.ndarray:
         """(m, 3 L) each level's warp and weft strains and shear angle (rad), per cell: the
         measures the static solver's level projection keeps at their first order
@@ -374,6 +376,10 @@ class FibrousShellBlock(ElementBlock):
         ``compression_free``: the tension's stress terms with the fibres' strains raised to
         at least zero (tangent.py ``membrane_hessian``)."""
         return stiffness.tangent(branch_view(self, history), state, compression_free)
+
+    def tangent_compression_free(self, state: State, history=None) -> list[TangentPart]:
+        """``tangent`` with ``compression_free`` (femcore.element)."""
+        return self.tangent(state, history, compression_free=True)
 
     def tangent_pieces(self, state: State, history=None) -> Iterator[TangentPart]:
         """``tangent`` a slice of cells at a time (tangent_pieces.py): with nodal normals the

@@ -4,7 +4,7 @@ the levers and a level's fibre vectors and strains (the force pass's and the str
 pass's one writing), the director moment, a side's fold angle and curvature coefficients,
 the fold-angle gradient and the pull of a corner angle. Each returns scalars (x, y, z
 components), so that the loops keep every vector in registers. Each is a compiled helper
-(elements/jit.py ``serial``) that LLVM inlines into its callers, but for ``level_strains``,
+(femcore/jit.py ``serial``) that LLVM inlines into its callers, but for ``level_strains``,
 which LLVM leaves a call: spliced into its two callers (``inline``).
 
 Divisions are the dearest of the loops' arithmetic after the transcendental functions (a
@@ -18,8 +18,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from elements.jit import inline, serial
 from elements.lane_maths import lane_arcsin, lane_log
+from femcore.jit import inline, serial
 
 __all__ = [
     "angle_pull",

@@ -19,7 +19,7 @@ import numpy as np
 
 from elements.fibrous.cell_terms import cell_cross
 from elements.fibrous.geometry_kernels import loop_array
-from elements.jit import serial
+from femcore.jit import serial
 
 __all__ = ["fibre_corners", "shear_signs"]
 

@@ -34,7 +34,7 @@ import numpy as np
 
 from elements.fibrous import geometry_kernels
 from elements.fibrous.geometry import SIDE_FROM, SIDE_TO
-from elements.jit import AVAILABLE, serial
+from femcore.jit import AVAILABLE, serial
 
 if TYPE_CHECKING:
     from elements.fibrous.block import FibrousShellBlock

@@ -24,8 +24,8 @@ from elements.fibrous.cell_terms import (
     unit_edge_squares,
     wall_fold,
 )
-from elements.jit import jit, jit_lanes, prange
 from elements.lane_maths import lane_arctan2
+from femcore.jit import jit, jit_lanes, prange
 from femcore.workspace import Fresh
 
 __all__ = ["bending_geometry", "loop_array", "normal_sums"]

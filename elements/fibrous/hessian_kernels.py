@@ -31,8 +31,8 @@ import numpy as np
 
 from elements.fibrous.packed_laws import law_slope, law_value
 from elements.fibrous.tangent_kernels import cell_normal
-from elements.jit import AVAILABLE, jit, prange, serial
 from elements.shell_geometry import GUARD
+from femcore.jit import AVAILABLE, jit, prange, serial
 
 __all__ = [
     "AVAILABLE",

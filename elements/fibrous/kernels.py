@@ -28,7 +28,7 @@ forces from the levels' sums as one more such loop) and the arctangents of the c
 and the folds; their log, arcsine and arctangent are branch-free arithmetic
 (elements/lane_maths.py, within 2 units in the last place of the library's), with which
 LLVM vectorises those loops (the library's functions are called one value a call), and
-``_cells_pass`` is built with numba's numpy error model (elements/jit.py ``jit_lanes``: no
+``_cells_pass`` is built with numba's numpy error model (femcore/jit.py ``jit_lanes``: no
 zero test before each division, which would keep a loop scalar; a fibre of no length in
 its plane still raises ZeroDivisionError, a cell of no area in pass 1 too).
 
@@ -82,8 +82,8 @@ from elements.fibrous.geometry_kernels import (
     loop_array,
 )
 from elements.fibrous.packed_laws import law_energy, law_value
-from elements.jit import jit, jit_lanes, prange
 from elements.shell_geometry import GUARD
+from femcore.jit import jit, jit_lanes, prange
 from femcore.workspace import Fresh, workspace_of
 
 __all__ = [

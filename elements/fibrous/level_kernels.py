@@ -21,7 +21,7 @@ import math
 import numpy as np
 
 from elements.fibrous.tangent_kernels import cell_normal
-from elements.jit import AVAILABLE, jit, prange
+from femcore.jit import AVAILABLE, jit, prange
 
 __all__ = ["AVAILABLE", "level_gradient_cells"]
 

@@ -18,7 +18,7 @@ corner forces from those sums and the corners' frames (gathered with the edges),
 as 1, the pass copying them cell by cell into its outputs: the force takes 0.85 of the time
 it took with them formed cell by cell after the levels, the frames read again (the same
 numbers to the last bit; benchmarks/explicit_step.py). Each is compiled without reference
-counting (elements/jit.py ``lane_rows``): the arrays it is given are the pass's own, and
+counting (femcore/jit.py ``lane_rows``): the arrays it is given are the pass's own, and
 their increfs and decrefs at every call cost the force 4 %.
 
 Each cell's sums run over the levels in the order of the scalar pass, and every operation is
@@ -32,7 +32,7 @@ import numpy as np
 
 from elements.fibrous.cell_terms import director_moment, level_strains
 from elements.fibrous.packed_laws import _POLYNOMIAL, law_energy, law_value
-from elements.jit import lane_rows
+from femcore.jit import lane_rows
 
 __all__ = ["CHUNK", "ROWS", "law_lanes", "level_lanes", "load_lanes", "moment_lanes"]
 

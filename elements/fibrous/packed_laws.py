@@ -2,7 +2,7 @@
 their value, energy and slope evaluated inside the loops (``law_value``, ``law_energy``,
 ``law_slope``): the fibrous shell's compiled kernels (elements/fibrous/kernels.py) evaluate the
 tension, shear and bending laws per fibre level and per cell without calling back into Python.
-The value, slope and energy are spliced into their callers (elements/jit.py ``inline``), a
+The value, slope and energy are spliced into their callers (femcore/jit.py ``inline``), a
 table law's energy included: the integrals of its y at the knots are tabled once by
 ``pack_laws``, so that its energy is a search and a trapezoid, with no call (a compiled call
 with the tables' arrays as arguments costs their reference counting, and the registers the
@@ -17,7 +17,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from elements.jit import inline
+from femcore.jit import inline
 
 __all__ = ["law_energy", "law_slope", "law_value", "pack_laws"]
 

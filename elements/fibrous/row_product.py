@@ -17,7 +17,7 @@ from __future__ import annotations
 import numpy as np
 import scipy.sparse as sp
 
-from elements.jit import AVAILABLE, serial
+from femcore.jit import AVAILABLE, serial
 
 __all__ = ["AVAILABLE", "RowProduct", "row_patches"]
 

@@ -14,7 +14,7 @@ from __future__ import annotations
 import numpy as np
 
 from elements.fibrous.cell_terms import cell_cross
-from elements.jit import jit_lanes, prange
+from femcore.jit import jit_lanes, prange
 
 __all__ = ["cell_steps"]
 

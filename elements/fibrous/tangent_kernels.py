@@ -26,7 +26,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from elements.fibrous.row_product import RowProduct
-from elements.jit import AVAILABLE, jit, prange, serial
+from femcore.jit import AVAILABLE, jit, prange, serial
 
 # Cells per chunk of the cell loops: their scratch allocated once a chunk, not once a cell,
 # where the allocations took a third of the loops' time (the normal pulls 1.31 against 0.78
