@@ -240,7 +240,10 @@ class Static:
     tangent of a state whose touching points all stick, turns a director past the update cap:
     the imposed motion is then applied alone and the return mapping there says which points
     slide (``info["imposed_alone"]``; docs/theory.md §6.5, "Prescribed motion against stuck
-    points").
+    points"). After that first update the directors of each fibrous body that no support holds
+    are turned with the body (the rotation fitted to its motion): their uniform tilt costs no
+    energy, and the mechanics decides the rest (docs/theory.md §1.7, "Directors carried with
+    the body"; ``info["carried_directors"]`` counts the updates).
 
     Stability: every converged state gets the number of negative eigenvalues of the tangent
     K_ff last factorised on its way (that of the iterate whose update reached it, a step the
