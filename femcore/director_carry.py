@@ -55,12 +55,14 @@ class DirectorCarrier:
     ----------
     bodies : list of (k,) int arrays, the nodes of each connected body of free-tilt cells none
         of whose directors a support holds (alpha or beta fixed or prescribed).
+    carried : (n,) bool, the nodes of those bodies.
     """
 
     def __init__(self, model: CompiledModel):
         cells = [block.free_tilt_cells() for block in model.blocks]
         given = [c for c in cells if c is not None and len(c)]
         self.bodies: list[np.ndarray] = []
+        self.carried = np.zeros(model.n_nodes, dtype=bool)
         if not given:
             return
         connectivity = np.concatenate(given)
@@ -76,6 +78,7 @@ class DirectorCarrier:
             nodes = np.flatnonzero(in_body & (label == body))
             if model.has_rotation[nodes].all() and not held[nodes].any():
                 self.bodies.append(nodes)
+                self.carried[nodes] = True
 
     @classmethod
     def of(cls, model: CompiledModel) -> DirectorCarrier | None:

@@ -581,7 +581,8 @@ def carried(
     carrier = run.carrier
     if carrier is None or state is start:
         return state, forces, watchdog
-    directors = carrier.carry(start.directors, start.positions, state.positions)
+    turned = carrier.carry(start.directors, start.positions, state.positions)
+    directors = np.where(carrier.carried[:, None], turned, state.directors)
     run.info["carried_directors"] += 1
     solver = run.solver
     restart = Watchdog(run, equilibrium, solver.line_search, solver.update_turn)
