@@ -574,10 +574,11 @@ def carried(
     turns of those directors are replaced: a uniform tilt costs such a body no energy, and the
     linear step leaves it where ``start`` had it in space while the imposed motion turns the
     body; the later iterations decide the tilt that the energy does decide (docs/theory.md
-    §1.7, "Directors carried with the body"). Not after a load's first step, which
-    overshoots a turning strip: where the carried directors followed the nodal normals of
-    that step, the heavy cantilever of validation/cases took 27-35 iterations an increment
-    instead of 4-6."""
+    §1.7, "Directors carried with the body"). Not after a load's first step: that linear
+    step overshoots a turning body, and the directors would be turned with the overshoot (a
+    first rule that turned every director with its nodal normal after that step took the
+    clamped heavy cantilever of validation/cases 27-35 iterations an increment instead of
+    4-6)."""
     carrier = run.carrier
     if carrier is None or state is start:
         return state, forces, watchdog
