@@ -136,9 +136,7 @@ def crossing_motion(crossing: Crossing, hessian: np.ndarray, tilt_floor: float) 
     share = np.einsum("eki,ei->ek", grad, nu)  # grad phi_k . nu
     d_share = np.einsum("ekizb,ei->ekzb", d_grad, nu) + np.einsum("eki,eizb->ekzb", grad, d_nu)
     return (
-        d_place
-        - share[:, :, None, None] * d_along[:, None]
-        - along[:, None, None, None] * d_share
+        d_place - share[:, :, None, None] * d_along[:, None] - along[:, None, None, None] * d_share
     )
 
 
