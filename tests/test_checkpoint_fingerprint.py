@@ -329,9 +329,12 @@ def test_an_explicit_run_resumed_counts_the_wall_time_before_its_stop(tmp_path, 
         with pytest.raises(Interrupted) as stopped:
             explicit().solve(cable(), checkpoint=checkpoint, checkpoint_interval=0.0)
     resumed = explicit().solve(cable(), checkpoint=checkpoint, checkpoint_interval=0.0)
-    assert resumed.wall_time >= PAUSE
     before = resumed.info["wall_time_before_resume"]
-    assert PAUSE <= before <= stopped.value.result.wall_time <= resumed.wall_time
+    # the time up to the checkpoint, within the stopped run's, and counted in the resumed
+    # run's (the resumed steps' own time is not compared with the stopped run's steps past
+    # the checkpoint: on a loaded machine either may be the longer)
+    assert PAUSE <= before <= stopped.value.result.wall_time
+    assert before <= resumed.wall_time
     assert explicit().solve(cable()).info["wall_time_before_resume"] == 0.0
 
 
