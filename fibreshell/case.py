@@ -15,7 +15,8 @@ tip = { x_min = "100%" }                 # units, or "P%" of the mesh's extent o
 [[part]]
 element = "fibrous"                      # "fibrous" | "mindlin" | "cable" | a registered name
 material = "g1151_laminate"              # a preset name (registered), or an inline table
-options = { clamped = "left" }           # keyword options of the element class
+options = { clamped = "left" }           # keyword options of the element class (symmetric =
+                                         # "right" or ["right", "top"]: symmetry planes)
 [[fix]]
 nodes = "left"                           # a node-set name, or { x_max = 0.0 } style bounds
 dofs = ["ux", "uy", "uz", "alpha", "beta"]   # optional: every DOF by default

@@ -36,6 +36,7 @@ The package, one concern per module:
   stiffness;
 * tangent.py: the analytic tangent of tension and shear, the membrane Hessian included;
 * supports.py: clamped sides, held cells and wall normals (docs/theory.md §4.5);
+* symmetry.py: symmetry planes, sides that bend against their cells' mirror images (§4.5);
 * kernels.py, cell_terms.py and packed_laws.py: the forces and energy by compiled loops
   (numba);
 * diagnostics.py: model-level views of the block tables (``thickness_along_directors``,

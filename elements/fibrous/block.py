@@ -15,7 +15,15 @@ import numpy as np
 
 from elements import kernels as node_kernels
 from elements.base import ElementBlock
-from elements.fibrous import bending, geometry, kernels, level_jacobian, membrane, supports
+from elements.fibrous import (
+    bending,
+    geometry,
+    kernels,
+    level_jacobian,
+    membrane,
+    supports,
+    symmetry,
+)
 from elements.fibrous import tangent as stiffness
 from elements.fibrous import tangent_pieces as pieces
 from elements.fibrous.fibres import by_family, fibre_ordering, shear_orientation
@@ -69,7 +77,13 @@ class FibrousShellBlock(ElementBlock):
 
     Attributes (fixed at bind, completed by ``apply_supports``; docs/theory.md §4.5)
     -------------------------------------------------------------------------------
-    clamped_side : (m, 3) bool, sides that bend against the wall of the reference plane.
+    clamped_side : (m, 3) bool, sides that bend against a wall: of the reference plane, or
+        on a symmetry plane the wall through the side perpendicular to it.
+    mirror_normal : (m, 3, 3), on a symmetry side (a clamped side whose nodes are not both
+        held) the plane's normal p signed so that (p x t) / |p x t| is its wall, t the side;
+        0 on the others (symmetry.py).
+    symmetry_normal : (m, 3, 3), the same on every side of the ``symmetric`` option.
+    reference_directors : (n, 3), the directors at bind.
     interior_side : (m, 3) bool, sides that couple the cell with its neighbour.
     held_cell : (m,) bool, cells whose three nodes are held: no bending.
     across_cell, across_side : (m, 3) int, the neighbour and its side where ``interior_side``,
@@ -91,6 +105,7 @@ class FibrousShellBlock(ElementBlock):
 
     # Set by supports.set_sides and supports.apply_supports.
     clamped_side: np.ndarray
+    mirror_normal: np.ndarray
     interior_side: np.ndarray
     held_cell: np.ndarray
     across_cell: np.ndarray
@@ -149,6 +164,9 @@ class FibrousShellBlock(ElementBlock):
         self.wall_nodes = np.zeros(mesh.n_nodes, dtype=bool)
         self.wall_node_ids = np.zeros(0, dtype=np.int64)
         self.wall_sums = np.zeros((0, 3))
+        # Symmetry sides (docs/theory.md §4.5): their plane normals once the reference
+        # normals are known, below.
+        self.symmetry_normal = np.zeros(self.connectivity.shape + (3,))
         supports.set_sides(self, self.requested_clamp)
 
         # Reference geometry: areas, fibre lengths and shear angles at each level, fold angles.
@@ -156,7 +174,12 @@ class FibrousShellBlock(ElementBlock):
         # array type and compile once, supports.apply_supports)
         x0 = np.array(mesh.points, dtype=float)
         v0 = np.asarray(directors, dtype=float)
+        self.reference_directors = v0
         self._reference_geometry(x0, v0)
+        self.symmetry_normal = symmetry.symmetry_sides(
+            mesh, self.connectivity, self.neighbour, self.reference_normal, shell.symmetric
+        )
+        supports.set_sides(self, self.requested_clamp)
         self.reference_fold = np.zeros((len(self.cell_ids), 3))
         bend0 = bending.geometry(self, x0)
         self.reference_fold = bend0["fold"]
@@ -205,14 +228,17 @@ class FibrousShellBlock(ElementBlock):
                 ref["g1"], ref["g2"]
             )
 
-    def apply_supports(self, held: np.ndarray) -> None:
+    def apply_supports(self, held: np.ndarray, constrained: np.ndarray | None = None) -> None:
         """Clamp the rotation-free bending where the model holds the nodes (docs/theory.md
         §4.5): every node held (translations and directors fixed or prescribed) is a clamped
         node, as are those of the ``clamped`` option, which must be held (supports.py).
+        ``constrained`` (n, 5) bool, the DOFs fixed or prescribed, is checked against the
+        symmetry planes (symmetry.py).
 
-        Raises ValueError when a node of a requested clamped edge is not held.
+        Raises ValueError when a node of a requested clamped edge is not held, or a node of
+        a symmetry plane is free to leave it.
         """
-        supports.apply_supports(self, held)
+        supports.apply_supports(self, held, constrained)
 
     def corner_pairs(self) -> CornerPairs:
         """The node-pair pattern of the sparse membrane tangent (built at its first use)."""

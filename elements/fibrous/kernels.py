@@ -102,7 +102,7 @@ def _cells_pass(
     connectivity, positions, directors, frame, normal, double_area, nodal, thickness, guard,
     zeta, weights, area, reference_length1, reference_length2, shear_sign, reference_shear,
     xi_is_warp, law_integers, law_reals, variation, side_fold, side_scale, interior, clamped,
-    wall, reference_fold, reference_coefficients, use_reference_coefficients, with_forces,
+    wall, mirror, reference_fold, reference_coefficients, use_reference_coefficients, with_forces,
     with_energy, force, moment, d_sums, own, energy,
 ):  # fmt: skip
     """Each cell's tension and shear (geometry.py ``cell_geometry``, membrane.py ``strains``,
@@ -240,7 +240,7 @@ def _cells_pass(
                 elif clamped[c, s]:
                     fold, c1s, c2s = wall_fold(
                         c, s, x0x, x0y, x0z, x1x, x1y, x1z, x2x, x2y, x2z, nx, ny, nz, size,
-                        e1x, e1y, e1z, e2x, e2y, e2z, over1, over2, wall,
+                        e1x, e1y, e1z, e2x, e2y, e2z, over1, over2, wall, mirror,
                     )  # fmt: skip
                 else:
                     continue
@@ -496,7 +496,8 @@ def _cell_passes(block, positions, directors, with_forces: bool, with_energy: bo
         block.zeta, block.weights, block.reference_area, block.reference_length1,
         block.reference_length2, block.shear_sign, block.reference_shear, block.xi_is_warp,
         *block.packed_laws, block.thickness_variation, side_fold, side_scale,
-        block.interior_side, block.clamped_side, block.reference_normal, block.reference_fold,
+        block.interior_side, block.clamped_side, block.reference_normal, block.mirror_normal,
+        block.reference_fold,
         block.reference_coefficients, block.reference_curvature_coefficients, with_forces,
         with_energy, force, moment, d_sums, own, energy,
     )  # fmt: skip
@@ -551,7 +552,7 @@ def cell_membrane_loads(block, x: np.ndarray, v: np.ndarray):
         tiled(block.reference_area), tiled(block.reference_length1),
         tiled(block.reference_length2), tiled(block.shear_sign), tiled(block.reference_shear),
         tiled(block.xi_is_warp), *block.packed_laws, block.thickness_variation, unset, unset,
-        alone, unclamped, block.reference_normal, unset,
+        alone, unclamped, block.reference_normal, block.mirror_normal, unset,
         block.reference_coefficients, False, True, False, force, moment,
         np.empty((0, 3, 3)), np.empty((cells, 3)), np.empty((0, 3)),
     )  # fmt: skip
