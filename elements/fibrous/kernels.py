@@ -114,9 +114,11 @@ def _cells_pass(
     at each fibre level the vectors g1, g2, the log strains and the shear angle, and the
     laws (packed laws 0, 1, 2: warp tension, weft tension, shear). Bending: the fold angle of
     each side against the neighbour's normal (``side_fold`` and ``side_scale`` (m, 3) of
-    ``_side_folds``, once per side) or the wall of the reference plane on a clamped side,
-    the curvatures chi_a = -sum_s c_as (theta_s - theta_s0) and the bending laws (packed
-    laws 3, 4: warp, weft).
+    ``_side_folds``, once per side) or the wall of the reference plane on a clamped side
+    (``wall`` (m, 3); on a symmetry plane's side the wall through the side perpendicular to
+    the plane of normal ``mirror`` (m, 3, 3), cell_terms.py ``wall_fold``), the curvatures
+    chi_a = -sum_s c_as (theta_s - theta_s0) and the bending laws (packed laws 3, 4: warp,
+    weft).
 
     ``with_forces``: force, moment, d_sums (m, 3, 3) the corner forces, director moments and
     dW/dS_k (zero without nodal normals), own (m, 3) the cell's share of each side's moment,
