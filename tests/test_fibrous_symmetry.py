@@ -18,8 +18,9 @@ import numpy as np
 import pytest
 
 from elements import FibrousShell
-from elements.fibrous import side_tables
+from elements.fibrous import side_tables, tangent_pieces
 from femcore import Mesh, Model
+from femcore.assembly import tangent_matrix
 from fibreshell import load_case, run_case
 from materials import BendingLaw, Fabric, ShearLaw
 from solvers import CentralDifference, DynamicRelaxation, Static
@@ -218,8 +219,9 @@ def test_a_quarter_plate_with_two_planes_deflects_as_the_whole(edges):
 def test_bending_forces_and_tangent_on_symmetry_planes_are_the_energy_derivatives(kernel):
     # A quarter patch with planes x = 30 and y = 20, bent and jittered (the planes' nodes kept
     # on them, as their supports keep them): with the reference curvature coefficients the
-    # bending forces are the central differences of the bending energy (step 1e-6 mm) to 1e-6
-    # of the largest, at the free DOFs; the element tangent against the coloured finite
+    # forces (tension, shear, bending; the planes' nodal normals projected on them) are the
+    # central differences of the strain energy (step 1e-6 mm) to 1e-6 of the largest, at the
+    # free DOFs; the element tangent against the coloured finite
     # differences of the force to 1e-6 of its largest entry (as tests/test_fibrous_supports.py).
     mesh = Mesh.rectangle(30.0, 20.0, nx=3, ny=2)
     x_plane, y_plane = nodes_at(mesh, 0, 30.0), nodes_at(mesh, 1, 20.0)
@@ -255,7 +257,7 @@ def test_bending_forces_and_tangent_on_symmetry_planes_are_the_energy_derivative
     state.positions[:, 2] = 0.01 * (30.0 - x) ** 2 - 0.02 * (20.0 - y) ** 2 / 2
     state.positions = state.positions + noise
 
-    force = block.internal_force_parts(state)["bending"][0]
+    force = block.internal_force(state)[0]
     step = 1e-6
     gradient = np.zeros_like(force)
     for node in range(mesh.n_nodes):
@@ -263,10 +265,9 @@ def test_bending_forces_and_tangent_on_symmetry_planes_are_the_energy_derivative
             plus, minus = state.copy(), state.copy()
             plus.positions[node, j] += step
             minus.positions[node, j] -= step
-            gradient[node, j] = (
-                block.strain_energy_parts(plus)["bending"]
-                - block.strain_energy_parts(minus)["bending"]
-            ) / (2 * step)
+            gradient[node, j] = (block.strain_energy(plus) - block.strain_energy(minus)) / (
+                2 * step
+            )
     free = compiled.dofs.free[:, :3]
     assert np.abs(gradient[free]).max() > 0.0
     assert np.abs(force - gradient)[free].max() <= 1e-6 * np.abs(gradient[free]).max()
@@ -275,6 +276,30 @@ def test_bending_forces_and_tangent_on_symmetry_planes_are_the_energy_derivative
     reference = compiled.stiffness(state, "finite_difference").toarray()[np.ix_(slots, slots)]
     own = compiled.stiffness(state).toarray()[np.ix_(slots, slots)]
     assert np.abs(own - reference).max() <= 1e-6 * np.abs(reference).max()
+
+
+def test_the_tangent_pieces_of_a_quarter_sum_to_its_tangent(monkeypatch):
+    # The explicit solver's streamed tangent (elements/fibrous/tangent_pieces.py, pieces of 6
+    # nodes on the 24-node quarter) against the whole tangent with the planes' projected
+    # normal sums: 1e-12 of the largest entry (tests/test_fibrous_tangent_pieces.py).
+    monkeypatch.setattr(tangent_pieces, "PIECE", 6)
+    monkeypatch.setattr(tangent_pieces, "PIECE_MIN", 6)
+    mesh = Mesh.rectangle(50.0, 30.0, nx=5, ny=3)
+    model = Model(mesh)
+    model.add(FibrousShell(FABRIC, symmetric=["right", "top"]))
+    model.fix("right", ["ux", "alpha"])
+    model.fix("top", ["uy", "beta"])
+    compiled = model.compile()
+    block = compiled.blocks[0]
+    assert block.plane_node_ids.size == len(mesh.nodes("right")) + len(mesh.nodes("top")) - 1
+    state = compiled.initial_state()
+    noise = np.random.default_rng(8).normal(scale=0.5, size=state.positions.shape)
+    noise[mesh.nodes("right"), 0] = noise[mesh.nodes("top"), 1] = 0.0
+    state.positions = state.positions + noise
+    frames = compiled.dofs.frames(state.directors)
+    whole = tangent_matrix(compiled.dofs, block.tangent(state), frames).toarray()
+    summed = tangent_matrix(compiled.dofs, list(block.tangent_pieces(state)), frames).toarray()
+    assert np.abs(summed - whole).max() <= 1e-12 * np.abs(whole).max()
 
 
 # ------------------------------------------------------------------ planes refused
@@ -319,3 +344,50 @@ def test_a_symmetry_set_that_is_no_plane_edge_is_refused():
     )
     with pytest.raises(ValueError, match="not a coordinate axis"):
         compiled_with(turned, "right", warp=rotation[:, 0])
+
+
+# ------------------------------------------------------------------ a symmetric state
+@pytest.mark.parametrize("thickness", ["nodal", "element"])
+def test_the_half_stores_half_the_energy_of_a_symmetric_whole(thickness):
+    # A symmetric state of the mirrored strip, far from flat (slope 0.3 rad at its ends, the
+    # fold 0.06 rad at the plane, stretched 1 %, the directors tilted symmetrically): the
+    # half's strain energy, tension, shear and bending, is half the whole's, and its forces
+    # and director moments at the nodes off the plane the whole's, to round-off. Every
+    # measure of the half at the plane is then the whole's: the fold against the mirror image
+    # and, with thickness "nodal", the nodal normals (the whole's, a mean over both sides, lie
+    # in the plane; the half's one-sided ones gave 7.9e-7 more tension energy).
+    half = Mesh.rectangle(L / 2, WIDTH, nx=5, ny=2)
+    whole = mirrored(half, 0, L / 2)
+    plane = nodes_at(half, 0, L / 2)
+    models = []
+    for mesh, options in ((half, {"symmetric": plane}), (whole, {})):
+        model = Model(mesh)
+        model.add(FibrousShell(FABRIC, thickness=thickness, **options))
+        if options:
+            model.fix(plane, ["ux", "alpha"])
+        models.append(model.compile())
+
+    def symmetric_state(model, mesh):
+        state = model.initial_state()
+        x, y = mesh.points[:, 0] - L / 2, mesh.points[:, 1]
+        state.positions[:, 0] = L / 2 + 1.01 * x
+        state.positions[:, 1] = 1.01 * y + 0.02 * x**2 / L
+        state.positions[:, 2] = 0.3 * x**2 / L * (1 + 0.1 * y / WIDTH)
+        tilt = np.column_stack([0.2 * x / L, 0.1 * y / WIDTH, np.ones_like(x)])
+        state.directors = tilt / np.linalg.norm(tilt, axis=1, keepdims=True)
+        return state
+
+    states = [symmetric_state(model, mesh) for model, mesh in zip(models, (half, whole))]
+    block_half, block_whole = (model.blocks[0] for model in models)
+    parts_half = block_half.strain_energy_parts(states[0])
+    parts_whole = block_whole.strain_energy_parts(states[1])
+    for part in ("tension", "shear", "bending"):
+        assert parts_whole[part] > 0.0
+        assert parts_half[part] == pytest.approx(parts_whole[part] / 2, rel=1e-12)
+    at = same_nodes(half, whole)
+    off = ~np.isin(np.arange(half.n_nodes), plane)
+    for half_load, whole_load in zip(
+        block_half.internal_force(states[0]), block_whole.internal_force(states[1])
+    ):  # the forces (N), then the directors' moments (N mm)
+        scale = np.abs(whole_load).max()
+        assert np.abs(half_load[off] - whole_load[at][off]).max() <= 1e-12 * scale

@@ -83,6 +83,9 @@ class FibrousShellBlock(ElementBlock):
         held) the plane's normal p signed so that (p x t) / |p x t| is its wall, t the side;
         0 on the others (symmetry.py).
     symmetry_normal : (m, 3, 3), the same on every side of the ``symmetric`` option.
+    plane_node_ids, plane_keep : (p,) int and (p, 3), the nodes of those sides and the
+        factors (0 along their planes' normals, else 1) that project their normal sums on
+        the planes (symmetry.py ``plane_projection``).
     reference_directors : (n, 3), the directors at bind.
     interior_side : (m, 3) bool, sides that couple the cell with its neighbour.
     held_cell : (m,) bool, cells whose three nodes are held: no bending.
@@ -164,9 +167,11 @@ class FibrousShellBlock(ElementBlock):
         self.wall_nodes = np.zeros(mesh.n_nodes, dtype=bool)
         self.wall_node_ids = np.zeros(0, dtype=np.int64)
         self.wall_sums = np.zeros((0, 3))
-        # Symmetry sides (docs/theory.md §4.5): their plane normals once the reference
-        # normals are known, below.
+        # Symmetry sides (docs/theory.md §4.5): their plane normals from the reference
+        # normals, below.
         self.symmetry_normal = np.zeros(self.connectivity.shape + (3,))
+        self.plane_node_ids = np.zeros(0, dtype=np.int64)
+        self.plane_keep = np.zeros((0, 3))
         supports.set_sides(self, self.requested_clamp)
 
         # Reference geometry: areas, fibre lengths and shear angles at each level, fold angles.
@@ -175,11 +180,22 @@ class FibrousShellBlock(ElementBlock):
         x0 = np.array(mesh.points, dtype=float)
         v0 = np.asarray(directors, dtype=float)
         self.reference_directors = v0
-        self._reference_geometry(x0, v0)
+        corners = x0[self.connectivity]
+        normal = np.cross(corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0])
         self.symmetry_normal = symmetry.symmetry_sides(
-            mesh, self.connectivity, self.neighbour, self.reference_normal, shell.symmetric
+            mesh,
+            self.connectivity,
+            self.neighbour,
+            normal / np.linalg.norm(normal, axis=1, keepdims=True),
+            shell.symmetric,
+        )
+        # The normal sums at the planes' nodes are the mirrored whole's (symmetry.py), the
+        # reference ones too.
+        self.plane_node_ids, self.plane_keep = symmetry.plane_projection(
+            self.connectivity, self.symmetry_normal, mesh.n_nodes
         )
         supports.set_sides(self, self.requested_clamp)
+        self._reference_geometry(x0, v0)
         self.reference_fold = np.zeros((len(self.cell_ids), 3))
         bend0 = bending.geometry(self, x0)
         self.reference_fold = bend0["fold"]

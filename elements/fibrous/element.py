@@ -80,8 +80,9 @@ class FibrousShell(ElementType):
         region is a clamp with or without this option; it states the intent and is checked.
     symmetric : node ids (or a node-set name) of a symmetry plane, or a list of them (a quarter
         model's two planes): the block's boundary sides whose two nodes are in a set bend
-        against the mirror image of their cell (docs/theory.md §4.5, "Symmetry plane"), as
-        the whole, mirrored model would. Each plane's normal is inferred from its sides (in
+        against the mirror image of their cell (docs/theory.md §4.5, "Symmetry plane"), and
+        their nodes' nodal normals are the mirrored whole's (projected on the plane), as the
+        whole, mirrored model would have them. Each plane's normal is inferred from its sides (in
         the plane, perpendicular to the shell) and must be a coordinate axis; a set that makes
         no boundary edge, or whose edges or nodes are not on one plane, is refused
         (ValueError). The supports must keep the plane's nodes in it: with ``model.fix``, the

@@ -422,6 +422,8 @@ def _frames(block, x, v, normal, angles, work=Fresh):
     corners = block.node_corners
     sums = work.empty("sums", (block.n_nodes, 3))
     _normal_sums(corners.offsets, corners.corners, angles, normal, sums)
+    if block.plane_node_ids.size:  # on a symmetry plane, the mirrored whole's (symmetry.py)
+        sums[block.plane_node_ids] *= block.plane_keep
     sums[block.wall_node_ids] = block.wall_sums
     frame = work.empty("frame", (block.n_nodes, 10))
     _node_frames(sums, v, block.node_in_block, float(block.fabric.thickness), GUARD, frame)
@@ -508,6 +510,8 @@ def _cell_passes(block, positions, directors, with_forces: bool, with_energy: bo
     pull = np.zeros((0, 3))
     if nodal:  # T_k, the sums of dW/dS_k; a wall node's S_k does not vary
         pull = corners.sum(d_sums, work.empty("pull", (block.n_nodes, 3)))
+        if block.plane_node_ids.size:  # S_k projected on a symmetry plane
+            pull[block.plane_node_ids] *= block.plane_keep
         pull[block.wall_node_ids] = 0.0
     del d_sums
     return x, energy, (normal, double_area, angles, force, moment, pull, own)

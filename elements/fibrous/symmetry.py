@@ -1,6 +1,6 @@
 """Symmetry planes of the rotation-free bending (docs/theory.md §4.5, "Symmetry plane"): the
-``symmetric`` option of FibrousShell read into the block's sides, and the supports a plane
-needs checked.
+``symmetric`` option of FibrousShell read into the block's sides and the projection of its
+nodes' normal sums, and the supports a plane needs checked.
 
 A boundary side on a symmetry plane bends against the mirror image of its own cell (the
 ghost element of the rotation-free shells' symmetry edges: Onate and Zarate's BST, Flores and
@@ -18,6 +18,12 @@ whole's) and the tangent are the clamp's with that wall.
 
 The plane's nodes must keep their translation along p and the turn of their director out of
 the plane fixed (the side then stays in the plane, where theta_s's variation is exact).
+
+A plane node's nodal normal sum (docs/theory.md §1.4) is the whole's: over the half's cells
+around it and their mirror images, S + R S = 2 (I - p p^T) S, the half's sum projected on the
+plane (on two planes, on both: their line); the factor 2 leaves N = S / |S| alone. The
+projection zeroes the sum's component along p (a coordinate axis), and the sum's variation
+and the pull dW/dS_k are projected alike (``plane_keep``, ``corner_keep``).
 """
 
 from __future__ import annotations
@@ -33,7 +39,13 @@ from femcore.rotation import nodal_frames
 if TYPE_CHECKING:
     from elements.fibrous.block import FibrousShellBlock
 
-__all__ = ["check_plane_supports", "symmetry_sides"]
+__all__ = [
+    "check_plane_supports",
+    "corner_keep",
+    "on_planes",
+    "plane_projection",
+    "symmetry_sides",
+]
 
 # How far a plane's nodes may lie off it, as a share of the block's extent; how close to a
 # coordinate axis its normal must be (the supports fix a global translation along it).
@@ -167,3 +179,37 @@ def check_plane_supports(
                 "normal and the director's turn out of the plane: a symmetry plane keeps its "
                 "nodes and directors in it)"
             )
+
+
+def plane_projection(
+    connectivity: np.ndarray, symmetry_normal: np.ndarray, n_nodes: int
+) -> tuple[np.ndarray, np.ndarray]:
+    """The nodes of the symmetry sides (p,) int and, for each, (p, 3) float the factors 1.0,
+    or 0.0 on the components along its planes' normals, that project its normal sum on them;
+    from the cells' nodes ``connectivity`` (m, 3) and the sides' signed plane normals
+    ``symmetry_normal`` (m, 3, 3) (``symmetry_sides``)."""
+    cell, side = np.nonzero(np.any(symmetry_normal != 0.0, axis=-1))
+    keep = np.ones((n_nodes, 3))
+    factor = 1.0 - np.abs(symmetry_normal[cell, side])  # 0 along the plane's axis
+    for ends in (SIDE_FROM, SIDE_TO):
+        np.minimum.at(keep, connectivity[cell, ends[side]], factor)
+    ids = np.flatnonzero((keep != 1.0).any(axis=1))
+    return ids, keep[ids]
+
+
+def corner_keep(block: FibrousShellBlock, nodes: np.ndarray) -> np.ndarray | None:
+    """The projection factors (..., 3) of ``plane_projection`` at the nodes ``nodes`` (...,)
+    int (1.0 off the planes), or None when the block has no symmetry plane."""
+    if not block.plane_node_ids.size:
+        return None
+    keep = np.ones((block.n_nodes, 3))
+    keep[block.plane_node_ids] = block.plane_keep
+    return keep[nodes]
+
+
+def on_planes(block: FibrousShellBlock, nodes: np.ndarray, ds_dx: np.ndarray) -> np.ndarray:
+    """The corner shares' Jacobians ``ds_dx`` (m, 3 k, 3 i, 3 j, 3 c) of the cells whose
+    corners are ``nodes`` (m, 3), their rows i projected on the symmetry planes at the planes'
+    nodes (the sums' variation, as the sums); ``ds_dx`` itself without a plane."""
+    keep = corner_keep(block, nodes)
+    return ds_dx if keep is None else ds_dx * keep[..., None, None]
