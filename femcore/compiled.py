@@ -146,8 +146,8 @@ class CompiledModel(CompiledTangent):
             check_block(entry.element, block, active)
         for entry, block in zip(model.blocks, self.blocks):
             # The nodes where every DOF of the block is fixed or prescribed (femcore.element).
-            held = self.dofs.constrained[:, dof_columns(entry.element.dofs)].all(axis=1)
-            block.apply_supports(held)
+            constrained = self.dofs.constrained[:, dof_columns(entry.element.dofs)]
+            block.apply_supports(constrained.all(axis=1), constrained)
 
         body = Body(
             mesh,

@@ -253,14 +253,15 @@ class ElementBlock(ReadOnlyState, ABC):
             f"{type(self).__name__} gives no fibre strain gradient (has_fibre_strains is False)"
         )
 
-    def apply_supports(self, held: np.ndarray) -> None:
+    def apply_supports(self, held: np.ndarray, constrained: np.ndarray | None = None) -> None:
         """Learn which nodes the model's supports hold; the default ignores it.
 
         Called once by ``CompiledModel`` after ``bind`` and before any force, mass or tangent
         is evaluated. ``held`` (n,) bool is True at the nodes where every DOF of the block
-        (its ``dofs``) is fixed (``model.fix``) or prescribed (``model.displace``). A block
-        may update its own tables here (and raise ValueError for options the supports
-        contradict); it must not keep a reference to ``held``.
+        (its ``dofs``) is fixed (``model.fix``) or prescribed (``model.displace``);
+        ``constrained`` (n, len(dofs)) bool says which of them, DOF by DOF in the order of
+        ``dofs``. A block may update its own tables here (and raise ValueError for options
+        the supports contradict); it must not keep a reference to either.
         """
         return None
 

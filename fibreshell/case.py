@@ -15,7 +15,8 @@ tip = { x_min = "100%" }                 # units, or "P%" of the mesh's extent o
 [[part]]
 element = "fibrous"                      # "fibrous" | "mindlin" | "cable" | a registered name
 material = "g1151_laminate"              # a preset name (registered), or an inline table
-options = { clamped = "left" }           # keyword options of the element class
+options = { clamped = "left" }           # keyword options of the element class (symmetric =
+                                         # "right" or ["right", "top"]: symmetry planes)
 # [layup]                                # optional: the part's fabric as plies on the
 # angles = [0.0, 90.0], friction = 0.2   # rectangle, each along its own fibres, in contact
 #                                        # (fibreshell/case_layup.py); selectors then name

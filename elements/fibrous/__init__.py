@@ -36,6 +36,7 @@ The package, one concern per module:
   stiffness;
 * fold_branch.py: each side's fold angle followed through a flat fold (whole turns, §4.2);
 * supports.py: clamped sides, held cells and wall normals (docs/theory.md §4.5);
+* symmetry.py: symmetry planes, sides that bend against their cells' mirror images (§4.5);
 * tangent.py: the analytic tangent of tension and shear, the membrane Hessian included;
 * tangent_pieces.py: the same tangent a run of rows at a time, for the explicit solver's bound;
 * row_product.py: rows of the membrane's J^T H J and the bending patches added to them;

@@ -68,7 +68,8 @@ def geometry(block: FibrousShellBlock, positions: np.ndarray, geo: dict | None =
     """Fold angles, curvature coefficients and fold-angle gradients (docs/theory.md §4.1-4.3).
 
     fold : (m, 3) theta_s per side, atan2(-n'.n^c_s, n.n'); 0 on free sides and in held
-        cells; against the element's reference plane on clamped sides.
+        cells; against the element's reference plane on clamped sides, and against the wall
+        through the side perpendicular to the plane on a symmetry plane's sides.
     coefficients : (m, 2, 3) c_as = 2 (g_a . n^c_s)^2 / (h_s + h_s') (0 on free sides and
         in held cells).
     gradient : (m, 3, 3) D[s, k] with d phi_s / d x_k = D[s, k] n (the element's share of
@@ -84,8 +85,17 @@ def geometry(block: FibrousShellBlock, positions: np.ndarray, geo: dict | None =
     nb = block.across_cell
     n_other = np.where(block.interior_side[..., None], n[nb], 0.0)
     if block.clamped_side.any():
-        wall = block.reference_normal
-        n_other = np.where(block.clamped_side[..., None], wall[:, None, :], n_other)
+        wall = np.broadcast_to(block.reference_normal[:, None, :], n_other.shape)
+        if block.mirror_normal.any():
+            # On a symmetry plane the wall through the side perpendicular to the plane:
+            # the fold against the mirrored cell is twice this one (symmetry.py).
+            side = x[:, SIDE_TO] - x[:, SIDE_FROM]
+            mirrored = cross(block.mirror_normal, side)
+            norm = np.linalg.norm(mirrored, axis=-1, keepdims=True)
+            mirrored = np.divide(mirrored, norm, out=np.zeros_like(mirrored), where=norm > 0)
+            is_mirror = np.any(block.mirror_normal != 0.0, axis=-1)
+            wall = np.where(is_mirror[..., None], mirrored, wall)
+        n_other = np.where(block.clamped_side[..., None], wall, n_other)
     has_fold = block.interior_side | block.clamped_side
     fold = np.where(
         has_fold,

@@ -15,7 +15,15 @@ import numpy as np
 
 from elements import kernels as node_kernels
 from elements.base import ElementBlock
-from elements.fibrous import bending, geometry, kernels, level_jacobian, membrane, supports
+from elements.fibrous import (
+    bending,
+    geometry,
+    kernels,
+    level_jacobian,
+    membrane,
+    supports,
+    symmetry,
+)
 from elements.fibrous import tangent as stiffness
 from elements.fibrous import tangent_pieces as pieces
 from elements.fibrous.fibres import by_family, fibre_ordering, shear_orientation
@@ -69,7 +77,16 @@ class FibrousShellBlock(ElementBlock):
 
     Attributes (fixed at bind, completed by ``apply_supports``; docs/theory.md §4.5)
     -------------------------------------------------------------------------------
-    clamped_side : (m, 3) bool, sides that bend against the wall of the reference plane.
+    clamped_side : (m, 3) bool, sides that bend against a wall: of the reference plane, or
+        on a symmetry plane the wall through the side perpendicular to it.
+    mirror_normal : (m, 3, 3), on a symmetry side (a clamped side whose nodes are not both
+        held) the plane's normal p signed so that (p x t) / |p x t| is its wall, t the side;
+        0 on the others (symmetry.py).
+    symmetry_normal : (m, 3, 3), the same on every side of the ``symmetric`` option.
+    plane_node_ids, plane_keep : (p,) int and (p, 3), the nodes of those sides and the
+        factors (0 along their planes' normals, else 1) that project their normal sums on
+        the planes (symmetry.py ``plane_projection``).
+    reference_directors : (n, 3), the directors at bind.
     interior_side : (m, 3) bool, sides that couple the cell with its neighbour.
     held_cell : (m,) bool, cells whose three nodes are held: no bending.
     across_cell, across_side : (m, 3) int, the neighbour and its side where ``interior_side``,
@@ -91,6 +108,7 @@ class FibrousShellBlock(ElementBlock):
 
     # Set by supports.set_sides and supports.apply_supports.
     clamped_side: np.ndarray
+    mirror_normal: np.ndarray
     interior_side: np.ndarray
     held_cell: np.ndarray
     across_cell: np.ndarray
@@ -149,6 +167,11 @@ class FibrousShellBlock(ElementBlock):
         self.wall_nodes = np.zeros(mesh.n_nodes, dtype=bool)
         self.wall_node_ids = np.zeros(0, dtype=np.int64)
         self.wall_sums = np.zeros((0, 3))
+        # Symmetry sides (docs/theory.md §4.5): their plane normals from the reference
+        # normals, below.
+        self.symmetry_normal = np.zeros(self.connectivity.shape + (3,))
+        self.plane_node_ids = np.zeros(0, dtype=np.int64)
+        self.plane_keep = np.zeros((0, 3))
         supports.set_sides(self, self.requested_clamp)
 
         # Reference geometry: areas, fibre lengths and shear angles at each level, fold angles.
@@ -156,6 +179,22 @@ class FibrousShellBlock(ElementBlock):
         # array type and compile once, supports.apply_supports)
         x0 = np.array(mesh.points, dtype=float)
         v0 = np.asarray(directors, dtype=float)
+        self.reference_directors = v0
+        corners = x0[self.connectivity]
+        normal = np.cross(corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0])
+        self.symmetry_normal = symmetry.symmetry_sides(
+            mesh,
+            self.connectivity,
+            self.neighbour,
+            normal / np.linalg.norm(normal, axis=1, keepdims=True),
+            shell.symmetric,
+        )
+        # The normal sums at the planes' nodes are the mirrored whole's (symmetry.py), the
+        # reference ones too.
+        self.plane_node_ids, self.plane_keep = symmetry.plane_projection(
+            self.connectivity, self.symmetry_normal, mesh.n_nodes
+        )
+        supports.set_sides(self, self.requested_clamp)
         self._reference_geometry(x0, v0)
         self.reference_fold = np.zeros((len(self.cell_ids), 3))
         bend0 = bending.geometry(self, x0)
@@ -205,14 +244,17 @@ class FibrousShellBlock(ElementBlock):
                 ref["g1"], ref["g2"]
             )
 
-    def apply_supports(self, held: np.ndarray) -> None:
+    def apply_supports(self, held: np.ndarray, constrained: np.ndarray | None = None) -> None:
         """Clamp the rotation-free bending where the model holds the nodes (docs/theory.md
         §4.5): every node held (translations and directors fixed or prescribed) is a clamped
         node, as are those of the ``clamped`` option, which must be held (supports.py).
+        ``constrained`` (n, 5) bool, the DOFs fixed or prescribed, is checked against the
+        symmetry planes (symmetry.py).
 
-        Raises ValueError when a node of a requested clamped edge is not held.
+        Raises ValueError when a node of a requested clamped edge is not held, or a node of
+        a symmetry plane is free to leave it.
         """
-        supports.apply_supports(self, held)
+        supports.apply_supports(self, held, constrained)
 
     def corner_pairs(self) -> CornerPairs:
         """The node-pair pattern of the sparse membrane tangent (built at its first use)."""

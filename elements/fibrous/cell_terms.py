@@ -281,15 +281,21 @@ def side_vector(s, x0x, x0y, x0z, x1x, x1y, x1z, x2x, x2y, x2z):
 @serial
 def wall_fold(
     c, s, x0x, x0y, x0z, x1x, x1y, x1z, x2x, x2y, x2z, nx, ny, nz, size, e1x, e1y, e1z,
-    e2x, e2y, e2z, over1, over2, wall,
+    e2x, e2y, e2z, over1, over2, wall, mirror,
 ):  # fmt: skip
     """Side s of cell c (from corner s + 1 to corner s + 2) clamped: its fold against the wall
-    of the reference plane (the unit normal ``wall`` (m, 3) of the cell at bind) and its
+    of the reference plane (the unit normal ``wall`` (m, 3) of the cell at bind), or on a
+    symmetry plane (``mirror`` (m, 3, 3) the plane's signed normal p, 0 elsewhere) against
+    the wall (p x t) / |p x t| through the side t (elements/fibrous/symmetry.py), and its
     curvature coefficients (``side_angle``, ``side_coefficients``): (fold, c_1s, c_2s)."""
     sx, sy, sz = side_vector(s, x0x, x0y, x0z, x1x, x1y, x1z, x2x, x2y, x2z)
-    fold, scale = side_angle(
-        sx, sy, sz, nx, ny, nz, wall[c, 0], wall[c, 1], wall[c, 2], size, 0.0
-    )  # fmt: skip
+    wx, wy, wz = wall[c, 0], wall[c, 1], wall[c, 2]
+    px, py, pz = mirror[c, s, 0], mirror[c, s, 1], mirror[c, s, 2]
+    if px != 0.0 or py != 0.0 or pz != 0.0:
+        wx, wy, wz = py * sz - pz * sy, pz * sx - px * sz, px * sy - py * sx
+        over = 1.0 / np.sqrt(wx * wx + wy * wy + wz * wz)
+        wx, wy, wz = wx * over, wy * over, wz * over
+    fold, scale = side_angle(sx, sy, sz, nx, ny, nz, wx, wy, wz, size, 0.0)
     c1s, c2s = side_coefficients(
         sx, sy, sz, nx, ny, nz, e1x, e1y, e1z, e2x, e2y, e2z, over1, over2, scale
     )  # fmt: skip

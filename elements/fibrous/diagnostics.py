@@ -90,8 +90,10 @@ def side_tables(model: CompiledModel) -> dict[str, np.ndarray]:
         (t, 3) int (-1 off the blocks): ``neighbour`` (t, 3) int, the triangle across the
         side in the same block (-1 on its free edges and off the blocks); ``interior_side``
         (t, 3) bool, the side couples the two cells; ``clamped_side`` (t, 3) bool, the side
-        bends against the wall of the reference plane; ``held_cell`` (t,) bool, all three
-        nodes held (no bending).
+        bends against a wall: of the reference plane, or on a symmetry plane
+        (``mirror_side`` (t, 3) bool, FibrousShell ``symmetric``) the wall through the side
+        perpendicular to the plane, as against its cell's mirror image; ``held_cell`` (t,)
+        bool, all three nodes held (no bending).
 
     Raises ValueError when the model has no FibrousShell block.
     """
@@ -103,6 +105,7 @@ def side_tables(model: CompiledModel) -> dict[str, np.ndarray]:
             "neighbour": neighbour,
             "interior_side": block.interior_side,
             "clamped_side": block.clamped_side,
+            "mirror_side": np.any(block.mirror_normal != 0.0, axis=-1),
             "held_cell": block.held_cell,
         }
         tables.append((block.cell_ids, values))
@@ -111,6 +114,7 @@ def side_tables(model: CompiledModel) -> dict[str, np.ndarray]:
         "neighbour": -1,
         "interior_side": False,
         "clamped_side": False,
+        "mirror_side": False,
         "held_cell": False,
     }
     return _spread(model, tables, fill)

@@ -78,6 +78,17 @@ class FibrousShell(ElementType):
         bending by themselves (every side whose two nodes are held is clamped, every element
         whose three nodes are held carries no bending), so fixing the nodes of a line or of a
         region is a clamp with or without this option; it states the intent and is checked.
+    symmetric : node ids (or a node-set name) of a symmetry plane, or a list of them (a quarter
+        model's two planes): the block's boundary sides whose two nodes are in a set bend
+        against the mirror image of their cell (docs/theory.md §4.5, "Symmetry plane"), and
+        their nodes' nodal normals are the mirrored whole's (projected on the plane), as the
+        whole, mirrored model would have them. Each plane's normal is inferred from its sides (in
+        the plane, perpendicular to the shell) and must be a coordinate axis; a set that makes
+        no boundary edge, or whose edges or nodes are not on one plane, is refused
+        (ValueError). The supports must keep the plane's nodes in it: with ``model.fix``, the
+        translation along the normal and the director DOF that turns the director out of the
+        plane (on a sheet whose directors are +-z: a plane x = const fixes "ux" and "alpha",
+        a plane y = const "uy" and "beta"); compiling the model refuses it otherwise.
     thickness : "nodal" (default) or "element": the normal n of h_m = h / (V . n) (docs/theory.md
         §1.4). "nodal" takes the angle-weighted normal of the block's triangles around each node,
         so the thickness along the director is continuous and a bent stack's directors tilt as
@@ -110,6 +121,7 @@ class FibrousShell(ElementType):
         warp=(1.0, 0.0, 0.0),
         fibre_angle_tolerance: float = 1.0,
         clamped=None,
+        symmetric=None,
         thickness_variation: bool = True,
         bending_geometry: str = "current",
         thickness: str = "nodal",
@@ -133,6 +145,7 @@ class FibrousShell(ElementType):
             )
         self.fibre_angle_tolerance = tolerance
         self.clamped = clamped
+        self.symmetric = symmetric
         self.thickness_variation = as_flag(thickness_variation, "thickness_variation")
         if thickness not in ("nodal", "element"):
             raise ValueError(

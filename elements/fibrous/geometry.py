@@ -80,13 +80,19 @@ def normal_sums(block: FibrousShellBlock, positions: np.ndarray) -> np.ndarray:
         sums = geometry_kernels.normal_sums(block, positions)
     else:
         sums = block.scatter.vectors(corner_normals(positions[block.connectivity])[0])
+    if block.plane_node_ids.size:  # a symmetry plane's nodes: the mirrored whole's sums
+        sums[block.plane_node_ids] *= block.plane_keep  # (symmetry.py)
     if block.wall_nodes.any():
         sums[block.wall_nodes] = block.reference_sums[block.wall_nodes]
     return sums
 
 
 def free_sums(block: FibrousShellBlock, nodal: np.ndarray) -> np.ndarray:
-    """``nodal`` (n, 3) with the rows of the wall nodes zeroed: their S_k does not vary."""
+    """``nodal`` (n, 3) with the rows of the wall nodes zeroed: their S_k does not vary; and
+    those of a symmetry plane's nodes projected on it, as their S_k (symmetry.py)."""
+    if block.plane_node_ids.size:
+        nodal = nodal.copy()
+        nodal[block.plane_node_ids] *= block.plane_keep
     return np.where(block.wall_nodes[:, None], 0.0, nodal) if block.wall_nodes.any() else nodal
 
 

@@ -193,7 +193,7 @@ def normal_sums(block, positions: np.ndarray) -> np.ndarray:
 @jit
 def _bending_sides(
     connectivity, positions, normal, double_area, side_fold, side_scale, interior, clamped,
-    wall, fold, coefficients, gradient,
+    wall, mirror, fold, coefficients, gradient,
 ):  # fmt: skip
     """bending.py ``geometry`` of every cell: fold angles (m, 3), curvature coefficients
     (m, 2, 3) and the gradient D[s, k] (m, 3, 3), the folds of the sides between two cells
@@ -229,7 +229,7 @@ def _bending_sides(
             elif clamped[c, s]:
                 fold[c, s], coefficients[c, 0, s], coefficients[c, 1, s] = wall_fold(
                     c, s, x0x, x0y, x0z, x1x, x1y, x1z, x2x, x2y, x2z, nx, ny, nz, size,
-                    e1x, e1y, e1z, e2x, e2y, e2z, over1, over2, wall,
+                    e1x, e1y, e1z, e2x, e2y, e2z, over1, over2, wall, mirror,
                 )  # fmt: skip
             else:
                 fold[c, s], coefficients[c, 0, s], coefficients[c, 1, s] = 0.0, 0.0, 0.0
@@ -244,6 +244,7 @@ def bending_geometry(block, positions: np.ndarray) -> dict:
     fold, coefficients, gradient = np.empty((m, 3)), np.empty((m, 2, 3)), np.empty((m, 3, 3))
     _bending_sides(
         block.connectivity, x, normal, double_area, side_fold, side_scale, block.interior_side,
-        block.clamped_side, block.reference_normal, fold, coefficients, gradient,
+        block.clamped_side, block.reference_normal, block.mirror_normal, fold, coefficients,
+        gradient,
     )  # fmt: skip
     return {"fold": fold, "coefficients": coefficients, "gradient": gradient, "normal": normal}

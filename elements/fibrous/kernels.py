@@ -102,7 +102,7 @@ def _cells_pass(
     connectivity, positions, directors, frame, normal, double_area, nodal, thickness, guard,
     zeta, weights, area, reference_length1, reference_length2, shear_sign, reference_shear,
     xi_is_warp, law_integers, law_reals, variation, side_fold, side_scale, interior, clamped,
-    wall, reference_fold, reference_coefficients, use_reference_coefficients, with_forces,
+    wall, mirror, reference_fold, reference_coefficients, use_reference_coefficients, with_forces,
     with_energy, force, moment, d_sums, own, energy,
 ):  # fmt: skip
     """Each cell's tension and shear (geometry.py ``cell_geometry``, membrane.py ``strains``,
@@ -114,9 +114,11 @@ def _cells_pass(
     at each fibre level the vectors g1, g2, the log strains and the shear angle, and the
     laws (packed laws 0, 1, 2: warp tension, weft tension, shear). Bending: the fold angle of
     each side against the neighbour's normal (``side_fold`` and ``side_scale`` (m, 3) of
-    ``_side_folds``, once per side) or the wall of the reference plane on a clamped side,
-    the curvatures chi_a = -sum_s c_as (theta_s - theta_s0) and the bending laws (packed
-    laws 3, 4: warp, weft).
+    ``_side_folds``, once per side) or the wall of the reference plane on a clamped side
+    (``wall`` (m, 3); on a symmetry plane's side the wall through the side perpendicular to
+    the plane of normal ``mirror`` (m, 3, 3), cell_terms.py ``wall_fold``), the curvatures
+    chi_a = -sum_s c_as (theta_s - theta_s0) and the bending laws (packed laws 3, 4: warp,
+    weft).
 
     ``with_forces``: force, moment, d_sums (m, 3, 3) the corner forces, director moments and
     dW/dS_k (zero without nodal normals), own (m, 3) the cell's share of each side's moment,
@@ -240,7 +242,7 @@ def _cells_pass(
                 elif clamped[c, s]:
                     fold, c1s, c2s = wall_fold(
                         c, s, x0x, x0y, x0z, x1x, x1y, x1z, x2x, x2y, x2z, nx, ny, nz, size,
-                        e1x, e1y, e1z, e2x, e2y, e2z, over1, over2, wall,
+                        e1x, e1y, e1z, e2x, e2y, e2z, over1, over2, wall, mirror,
                     )  # fmt: skip
                 else:
                     continue
@@ -420,6 +422,8 @@ def _frames(block, x, v, normal, angles, work=Fresh):
     corners = block.node_corners
     sums = work.empty("sums", (block.n_nodes, 3))
     _normal_sums(corners.offsets, corners.corners, angles, normal, sums)
+    if block.plane_node_ids.size:  # on a symmetry plane, the mirrored whole's (symmetry.py)
+        sums[block.plane_node_ids] *= block.plane_keep
     sums[block.wall_node_ids] = block.wall_sums
     frame = work.empty("frame", (block.n_nodes, 10))
     _node_frames(sums, v, block.node_in_block, float(block.fabric.thickness), GUARD, frame)
@@ -496,7 +500,8 @@ def _cell_passes(block, positions, directors, with_forces: bool, with_energy: bo
         block.zeta, block.weights, block.reference_area, block.reference_length1,
         block.reference_length2, block.shear_sign, block.reference_shear, block.xi_is_warp,
         *block.packed_laws, block.thickness_variation, side_fold, side_scale,
-        block.interior_side, block.clamped_side, block.reference_normal, block.reference_fold,
+        block.interior_side, block.clamped_side, block.reference_normal, block.mirror_normal,
+        block.reference_fold,
         block.reference_coefficients, block.reference_curvature_coefficients, with_forces,
         with_energy, force, moment, d_sums, own, energy,
     )  # fmt: skip
@@ -505,6 +510,8 @@ def _cell_passes(block, positions, directors, with_forces: bool, with_energy: bo
     pull = np.zeros((0, 3))
     if nodal:  # T_k, the sums of dW/dS_k; a wall node's S_k does not vary
         pull = corners.sum(d_sums, work.empty("pull", (block.n_nodes, 3)))
+        if block.plane_node_ids.size:  # S_k projected on a symmetry plane
+            pull[block.plane_node_ids] *= block.plane_keep
         pull[block.wall_node_ids] = 0.0
     del d_sums
     return x, energy, (normal, double_area, angles, force, moment, pull, own)
@@ -551,7 +558,7 @@ def cell_membrane_loads(block, x: np.ndarray, v: np.ndarray):
         tiled(block.reference_area), tiled(block.reference_length1),
         tiled(block.reference_length2), tiled(block.shear_sign), tiled(block.reference_shear),
         tiled(block.xi_is_warp), *block.packed_laws, block.thickness_variation, unset, unset,
-        alone, unclamped, block.reference_normal, unset,
+        alone, unclamped, block.reference_normal, block.mirror_normal, unset,
         block.reference_coefficients, False, True, False, force, moment,
         np.empty((0, 3, 3)), np.empty((cells, 3)), np.empty((0, 3)),
     )  # fmt: skip

@@ -29,6 +29,7 @@ import numpy as np
 
 from elements.fibrous import hessian_kernels, level_kernels
 from elements.fibrous.geometry import cell_geometry, corner_normals, normal_sums, row_dot
+from elements.fibrous.symmetry import on_planes
 from elements.shell_geometry import GUARD
 from femcore.rotation import cross
 
@@ -143,8 +144,10 @@ def _shares(block: FibrousShellBlock, x: np.ndarray, conn: np.ndarray) -> np.nda
     """d(alpha_k n)/dx_j of each cell (m, 3, 3, 3, 3), zero on the wall nodes' rows."""
     held = block.wall_nodes[conn]
     if block.compiled and hessian_kernels.AVAILABLE:
-        return hessian_kernels.normal_share_jacobians(x, held)
-    return corner_normals(x, jacobian=True)[1] * ~held[:, :, None, None, None]
+        return on_planes(block, conn, hessian_kernels.normal_share_jacobians(x, held))
+    return on_planes(
+        block, conn, corner_normals(x, jacobian=True)[1] * ~held[..., None, None, None]
+    )
 
 
 def sums_pairs(block: FibrousShellBlock) -> tuple[np.ndarray, ...]:

@@ -17,6 +17,7 @@ import numpy as np
 
 from elements.fibrous import bending, geometry
 from elements.fibrous.geometry import SIDE_FROM, SIDE_TO
+from elements.fibrous.symmetry import check_plane_supports
 from femcore.mesh import Mesh
 
 if TYPE_CHECKING:
@@ -87,6 +88,11 @@ def set_sides(block: FibrousShellBlock, clamp: np.ndarray) -> None:
     zero curvature coefficients: its shape is imposed and it stores no bending energy.
     """
     block.clamped_side, ends, block.held_cell = clamped_sides(block.connectivity, clamp)
+    # A symmetry side (symmetry.py) is a clamped side whose wall follows the side, unless
+    # the supports hold its two nodes: then it is clamped against the reference plane.
+    mirror = np.any(block.symmetry_normal != 0.0, axis=-1) & ~ends
+    block.mirror_normal = np.where(mirror[..., None], block.symmetry_normal, 0.0)
+    block.clamped_side = block.clamped_side | mirror
     block.interior_side = (block.neighbour >= 0) & ~ends
     # Gather indices with free sides pointing at cell 0, masked by interior_side.
     block.across_cell = np.where(block.interior_side, block.neighbour, 0)
@@ -142,14 +148,18 @@ def shared_sides(
     return table, sign
 
 
-def apply_supports(block: FibrousShellBlock, held: np.ndarray) -> None:
+def apply_supports(
+    block: FibrousShellBlock, held: np.ndarray, constrained: np.ndarray | None = None
+) -> None:
     """Clamp the block's rotation-free bending where the model holds the nodes: every node
     ``held`` (n,) bool (translations and directors fixed or prescribed) is a clamped node, as
     are those of the ``clamped`` option, which must be held. Sets the side tables, the wall
     nodes and their normal sums, and the reference folds and curvature coefficients
-    recomputed with the clamps.
+    recomputed with the clamps. ``constrained`` (n, 5) bool, the block's DOFs fixed or
+    prescribed, is checked against the symmetry planes (symmetry.py ``check_plane_supports``).
 
-    Raises ValueError when a node of a requested clamped edge is not held.
+    Raises ValueError when a node of a requested clamped edge is not held, or a node of a
+    symmetry plane is free to leave it.
     """
     held = np.asarray(held, dtype=bool)
     connectivity = block.connectivity
@@ -164,6 +174,7 @@ def apply_supports(block: FibrousShellBlock, held: np.ndarray) -> None:
             "have their translations and directors fixed with model.fix (a clamped edge "
             "is held by the supports; its bending then acts against a wall)"
         )
+    check_plane_supports(block, held, constrained)
     set_sides(block, held | block.requested_clamp)
     # A held node stays where it was: its nodal normal is the wall's, the reference one,
     # not the mean of the cells that bend away from it (docs/theory.md §1.4).

@@ -28,6 +28,7 @@ from elements.fibrous.geometry import (
     skew,
 )
 from elements.fibrous.membrane import layer_forces, layer_loads, strains
+from elements.fibrous.symmetry import on_planes
 from femcore.assembly import TangentPart
 from femcore.rotation import cross
 from femcore.state import State
@@ -129,6 +130,7 @@ def nodal_membrane_tangent(
             block, x, v, sums, pairs, compression_free=compression_free
         )
         ds_dx = hessian_kernels.normal_share_jacobians(x, block.wall_nodes[conn])
+        ds_dx = on_planes(block, conn, ds_dx)
         j_blocks = hessian_kernels.pair_sums(pairs.slot, ds_dx, pairs.n_pairs)
         pull = free_sums(block, block.scatter.vectors(d_sums))[conn]  # T_k (m, 3, 3)
         second = tangent_kernels.normal_pull_stiffness(x, pull)
@@ -143,7 +145,7 @@ def nodal_membrane_tangent(
     # J: (u, psi) of node k -> rows 9k..9k+5; S_k <- d(alpha_k^f n_f)/dx_j for k, j
     # corners of f.
     _, ds_dx = corner_normals(x, jacobian=True)  # (m, corner k, S comp, node j, x comp)
-    ds_dx = ds_dx * ~block.wall_nodes[conn][:, :, None, None, None]
+    ds_dx = on_planes(block, conn, ds_dx * ~block.wall_nodes[conn][:, :, None, None, None])
     jac = pairs.jacobian(ds_dx)
     # sum_f sum_k T_k . d2(alpha_k^f n_f)/dx2, T held.
     pull = free_sums(block, block.scatter.vectors(d_sums))[conn]  # T_k (m, 3, 3)

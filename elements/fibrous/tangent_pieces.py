@@ -38,6 +38,7 @@ import scipy.sparse as sp
 from elements.base import SparseTangent
 from elements.fibrous import bending, hessian_kernels, kernels, row_product, tangent_kernels
 from elements.fibrous.geometry import normal_sums
+from elements.fibrous.symmetry import on_planes
 from elements.fibrous.tangent import NodePairs, tangent
 from femcore.assembly import TangentPart
 from femcore.state import State
@@ -195,6 +196,7 @@ def _rows(
         ds_dx = hessian_kernels.normal_share_jacobians(
             state.positions[nodes], block.wall_nodes[nodes]
         )
+        ds_dx = on_planes(block, nodes, ds_dx)
         hessian_kernels.pair_sums(pairs.slot[part], ds_dx, pairs.n_pairs, j_blocks)
     data = rows(h_blocks, h_of, j_blocks)
     del h_blocks, j_blocks
