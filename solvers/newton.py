@@ -310,6 +310,11 @@ def _newton(
     except IncrementFailed as failure:
         failure.iterations = failed.iterations + max(len(again) - 1, 0)
         failure.history = history + again
+        # both attempts' reasons: the cut's message and the final error say a retry happened
+        failure.args = (
+            f"{failure} (tried again with the prescribed motion applied alone after the "
+            f"first attempt's: {failed})",
+        )
         raise
     return converged, failed.iterations + count, ratio, history + again
 

@@ -5,6 +5,8 @@ and the upper ply pulled 2 mm along x, its directors and uy free. Once it slides
 Coulomb's mu F (the reference), and the supports carry the press: the sum of the z reactions
 is the applied 1 N (statics, no model needed)."""
 
+from types import SimpleNamespace
+
 import numpy as np
 import pytest
 
@@ -130,3 +132,25 @@ def test_an_attempt_that_fails_on_the_stuck_tangents_step_is_tried_again_with_th
     assert result.info["imposed_alone_opened"] == 0
     pull = result.reactions[upper, 0].sum()
     assert pull == pytest.approx(MU * PRESS, rel=1e-4)
+
+
+def test_a_retry_that_fails_too_says_both_attempts_reasons(monkeypatch):
+    """Where the attempt with the motion applied alone fails as well, the increment's
+    failure (the cut's message, the final error) names both reasons and the retry, and
+    counts both attempts' iterations (before, only the retry's reason was said)."""
+    reasons = iter(["the line search found no step", "the residual stalled"])
+
+    def failing(run, state, load_factor, max_iterations, frozen, history, *rest):
+        history.extend([1.0, 0.5, 0.4])
+        raise newton.IncrementFailed(next(reasons))
+
+    monkeypatch.setattr(newton, "_iterate", failing)
+    monkeypatch.setattr(newton, "imposes_alone", lambda model: True)
+    monkeypatch.setattr(newton, "moves_prescribed", lambda run, state, load_factor: True)
+    run = SimpleNamespace(info={"imposed_alone": 0, "imposed_alone_retries": 0}, model=None)
+    with pytest.raises(newton.IncrementFailed) as failed:
+        newton._newton(run, None, 0.5, None, False)
+    said = str(failed.value)
+    assert said.startswith("the residual stalled (tried again with the prescribed motion")
+    assert said.endswith("first attempt's: the line search found no step)")
+    assert failed.value.iterations == 4 and run.info["imposed_alone_retries"] == 1
