@@ -85,6 +85,7 @@ found through Python entry points; the registry's docstring says how a part's ``
 
 from __future__ import annotations
 
+import inspect
 import re
 import tomllib
 import warnings
@@ -601,6 +602,18 @@ def _contact(where: _Where, mesh: Mesh, value: dict, folder: Path) -> dict:
             options[key] = item
     if "amplitude" in value:
         options["amplitude"] = _amplitude(where, value["amplitude"])
+    # a key the tool cannot do without, named as the case file writes it (before the class's
+    # own "missing 1 required positional argument")
+    missing = [
+        "file" if name == "mesh" else name
+        for name, parameter in inspect.signature(TOOLS[kind]).parameters.items()
+        if parameter.default is inspect.Parameter.empty
+        and parameter.kind is not inspect.Parameter.VAR_KEYWORD
+        and parameter.kind is not inspect.Parameter.VAR_POSITIONAL
+        and name not in options
+    ]
+    if missing:
+        raise where.error(missing[0], f'tool = "{kind}" needs {", ".join(missing)}: not given')
     try:
         tool = TOOLS[kind](**options)
     except (TypeError, ValueError) as error:

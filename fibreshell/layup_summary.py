@@ -11,10 +11,11 @@ from typing import Any
 import numpy as np
 
 from elements.layup import Layup
+from elements.ply_crossing import crossed_nodes
 from elements.ply_slip import slip_summary
 from femcore.results import Frame
 
-__all__ = ["layup_summary", "ply_slip_fields"]
+__all__ = ["layup_summary", "ply_crossings", "ply_slip_fields"]
 
 _SLIP = re.compile(r"ply_slip(?:_(\d+))?")
 
@@ -47,7 +48,8 @@ def layup_summary(layup: Layup, reference: np.ndarray, frame: Frame) -> dict[str
         triangles (``Layup.shear``: 90 deg less the angle between the deformed warp and weft,
         the pin-jointed net's sign), ``mean_displacement`` (3,) mm; ``slip``: per upper ply
         "ply_k" (k >= 2) the ``ply_slip`` over ply k - 1 since the start {max_mm, rms_mm,
-        nodes} (``elements.ply_slip.slip_summary``; nodes with no ply below left out).
+        nodes} (``elements.ply_slip.slip_summary``; nodes with no ply below left out);
+        ``crossed``: ``ply_crossings``.
     """
     shear = layup.shear(frame.positions)
     plies = {}
@@ -76,4 +78,32 @@ def layup_summary(layup: Layup, reference: np.ndarray, frame: Frame) -> dict[str
         "friction": layup.friction,
         "plies": plies,
         "slip": slip,
+        "crossed": ply_crossings(layup, reference, frame.positions),
     }
+
+
+def ply_crossings(
+    layup: Layup, reference: np.ndarray, positions: np.ndarray
+) -> dict[str, dict[str, Any]]:
+    """Per upper ply "ply_k" (k >= 2): the nodes of ply k past ply k - 1's mid-surface and
+    those of ply k - 1 past ply k's at ``positions`` (elements/ply_crossing.py), {nodes: how
+    many, deepest_mm: the deepest past it, 0 for none, first: up to ten node ids}: where the
+    plies have passed through each other, which the contact's fields do not show."""
+    triangles = layup.mesh.triangles
+    out = {}
+    for k in range(1, layup.count):
+        lower, upper = layup.ply_nodes[k - 1], layup.ply_nodes[k]
+        down, down_depth = crossed_nodes(
+            reference, positions, upper, triangles[layup.ply_cells[k - 1]], 1.0
+        )
+        up, up_depth = crossed_nodes(
+            reference, positions, lower, triangles[layup.ply_cells[k]], -1.0
+        )
+        ids = np.concatenate([down, up])
+        depth = np.concatenate([down_depth, up_depth])
+        out[f"ply_{k + 1}"] = {
+            "nodes": int(ids.size),
+            "deepest_mm": float(depth.max(initial=0.0)),
+            "first": [int(i) for i in ids[np.argsort(-depth)][:10]],
+        }
+    return out

@@ -8,6 +8,7 @@ import csv
 import json
 import math
 import time
+import warnings
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -400,6 +401,30 @@ def profile(case: Case, result: Result, name: str, thickness: float) -> dict:
     }  # fmt: skip
 
 
+def _say_crossings(crossed: dict[str, dict[str, Any]], lower_rule: str | None) -> None:
+    """Warn where the layup's plies ended through each other (fibreshell.layup_summary
+    ``ply_crossings``): the ply order there is lost, which the contact's fields do not show."""
+    through = {ply: c for ply, c in crossed.items() if c["nodes"]}
+    if not through:
+        return
+    said = "; ".join(
+        f"{c['nodes']} nodes of {ply} and the ply below passed each other's mid-surface, the "
+        f"deepest by {c['deepest_mm']:.3g} mm (nodes {', '.join(map(str, c['first'][:5]))})"
+        for ply, c in through.items()
+    )
+    remedy = (
+        'give [layup] lower_rule = "nodes" (the lower ply\'s nodes held off the upper ply too)'
+        if lower_rule is None
+        else "a larger [layup] penalty, a finer mesh where the tools are sharp, or a slower stroke"
+    )
+    warnings.warn(
+        f"the plies crossed: {said} (summary.json, layup.crossed): the results there are not "
+        f"of plies in their order. Try {remedy}",
+        UserWarning,
+        stacklevel=2,
+    )
+
+
 def summarise(case: Case, result: Result, kinematics: str, error: str, wall: float) -> dict:
     """The numbers of a run for summary.json: how it ended, the history sets at the final
     frame, the force on each rigid tool, the largest fibre strain and director tilt where the
@@ -449,6 +474,7 @@ def summarise(case: Case, result: Result, kinematics: str, error: str, wall: flo
         out["director_tilt_deg"] = {"min": float(np.nanmin(tilt)), "max": float(np.nanmax(tilt))}
     if case.layup is not None:  # per ply: angle, shear, displacement, slip over the one below
         out["layup"] = layup_summary(case.layup, case.mesh.points, final)
+        _say_crossings(out["layup"]["crossed"], case.layup.lower_rule)
     thickness = section_thickness(case)
     out["paths"] = {
         name: {

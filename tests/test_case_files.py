@@ -482,6 +482,7 @@ def test_a_body_that_starts_overlapping_a_contact_s_tool_is_warned_at_its_table(
         ("friction = 0.2", "friction = 0.2\nstick_stiffness = 0.0", r"\[contact\[0\].stick_"),
         ("friction = 0.2", "friction = 0.2\nstick_stiffness = 2.0", r"in \(0, 1\], got 2.0"),
         ("friction = 0.2", "friction = 0.2\ndamping = 1.5", r"\[contact\[0\].damping\]"),
+        ("radius = 30.0\n", "", r'\[contact\[0\].radius\]: tool = "sphere" needs radius'),
         (
             "friction = 0.2",
             "friction = 0.2\naugmented = true\ndamping = 0.2",
