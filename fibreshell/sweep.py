@@ -352,14 +352,20 @@ class SweepTable:
     def text(self, most: int = 6) -> str:
         """The table for a terminal: variant, the varied values, converged, wall time, then
         up to ``most`` numbers of the runs (the z components of the history sets' reactions
-        and displacements and of the tool forces, the largest fibre strain), a line each; a
+        and displacements and of the tool forces, then the largest fibre strain, always
+        shown), a line each; a
         failed variant shows its whole error instead (never cut short: the terminal wraps a
         long one, and the lines of a message of several are indented under its first)."""
         wanted = [
             name for name in self.columns
-            if name.endswith("_z") and name.startswith(("reaction_", "displacement_", "tool"))
-        ] + (["max_fibre_strain"] if "max_fibre_strain" in self.columns else [])  # fmt: skip
-        columns = ["variant", *self.keys, "converged", "wall_time_s", *wanted[:most]]
+            if name.endswith("_z") and (name.startswith(("reaction_", "displacement_"))
+                                        or (name.startswith("tool") and "_force_" in name))
+        ]  # fmt: skip
+        # the largest fibre strain always shown, the tool's own prescribed travel never (the
+        # same in every variant: a driven tool's displacement is in sweep.csv)
+        strain = ["max_fibre_strain"] if "max_fibre_strain" in self.columns else []
+        shown = wanted[: most - len(strain)] + strain
+        columns = ["variant", *self.keys, "converged", "wall_time_s", *shown]
 
         def cell(row: dict, name: str) -> str:
             value = row.get(name, "")

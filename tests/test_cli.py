@@ -251,3 +251,18 @@ def test_an_error_of_several_lines_is_printed_whole_indented_under_its_first():
     assert len(lines) == 5
     start = lines[2].index("SolverError")
     assert lines[3] == " " * start + "x" * 300 and lines[4] == " " * start + "last line"
+
+
+def test_the_printed_sweep_shows_tool_forces_and_the_fibre_strain_not_tool_travels():
+    """Three tools, two history sets: the driven tools' prescribed travel (the same in every
+    variant) took two of the six slots and pushed out the holder's force and the largest
+    fibre strain; sweep.csv keeps every column."""
+    row = {
+        "variant": 0, "layup.friction": 0.3, "converged": True, "error": "",
+        "wall_time_s": 1.0, "reaction_edge_z": 1.0, "displacement_tip_z": -2.0,
+        "tool1_force_z": 3.0, "tool1_displacement_z": 0.0, "tool2_force_z": 4.0,
+        "tool2_displacement_z": -6.0, "tool3_force_z": 5.0, "max_fibre_strain": 0.01,
+    }  # fmt: skip
+    header = SweepTable(keys=["layup.friction"], rows=[row]).text().splitlines()[0].split()
+    assert "tool3_force_z" in header and "max_fibre_strain" in header
+    assert not any(name.endswith("displacement_z") and name.startswith("tool") for name in header)
