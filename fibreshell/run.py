@@ -201,7 +201,14 @@ def run_case(
         raise _Where(case.path, "solver").error(key, str(setting)) from None
     except CheckpointMismatch as refused:
         if not refused.changed or not HISTORY_SETTINGS.issuperset(refused.changed):
-            raise  # (the model or other settings too: the message names every part)
+            # the model or other settings too: the message names every part, and the case
+            # file's way out (a changed [layup] names its plies' contacts and blocks)
+            raise CheckpointMismatch(
+                f"{refused}; the case {str(case.path)!r} changed since the checkpoint was "
+                "written: give it back as it was to resume, or run without --resume to start "
+                "again",
+                refused.changed,
+            ) from None
         raise _Where(case.path, "output").error(
             "history",
             "changed since the checkpoint was written (a set added, removed or redefined): "

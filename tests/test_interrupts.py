@@ -268,6 +268,22 @@ def test_a_resume_after_the_history_sets_changed_is_refused_naming_them(
     assert {p.name: p.read_bytes() for p in interrupted_folder.iterdir()} == before
 
 
+def test_a_resume_after_the_model_changed_says_the_case_file_s_way_out(
+    interrupted_folder, tmp_path, capsys
+):
+    """The fabric's bending changed: refused naming what differs, and, from the command line,
+    the case to give back or the run without --resume (before: only the Python API's
+    "delete it or point checkpoint= elsewhere")."""
+    case = tmp_path / "case.toml"
+    case.write_text(CASE.replace("bending = 10.0", "bending = 12.0"))
+    capsys.readouterr()
+    assert run(case, interrupted_folder, "--resume") == 2
+    said = capsys.readouterr().err
+    assert "was written for another model" in said
+    assert f"the case {str(case)!r} changed since the checkpoint was written" in said
+    assert "run without --resume to start again" in said
+
+
 def test_the_rows_of_a_frame_are_known_by_their_sets_names_and_nodes():
     """What a checkpoint reads of fibreshell's frame summary (FrameRows): a reactions set
     redefined under its name (other nodes, the energy records' nodes unchanged) is another."""
