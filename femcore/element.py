@@ -265,16 +265,6 @@ class ElementBlock(ReadOnlyState, ABC):
         """
         return None
 
-    def free_tilt_cells(self) -> np.ndarray | None:
-        """The connectivity (m, 3) of the cells whose strain energy a uniform tilt of their
-        directors leaves unchanged, or None (the default: the energy decides the tilt).
-
-        The fibrous shell's fibre levels only slip along themselves under such a tilt: a
-        zero-energy mode of every body none of whose directors a support holds, which the
-        quasi-static solvers turn with the body (femcore.director_carry, docs/theory.md §1.7).
-        """
-        return None
-
     def initial_history(self) -> Any:
         """History variables of the block in the reference state (None: it has none)."""
         return None

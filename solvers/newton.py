@@ -483,7 +483,6 @@ def _iterate(
             if alone_first or turned_past or opened:
                 scale, state, forces = watchdog.step(state, frames, left.copy(), r, True)
                 run.info["imposed_alone"] += 1
-                state, forces, watchdog = carried(run, equilibrium, start, state, forces, watchdog)
                 continue
         # Steps on an indefinite tangent are turned downhill, except on the way from a kept
         # saddle: the path of saddles no push descends from is followed by plain Newton (a
@@ -568,8 +567,6 @@ def _iterate(
             state, forces = chord_corrections(
                 run, equilibrium, watchdog, state, frames, forces, factor, solver.chords
             )
-        if iteration == 1 and imposing:
-            state, forces, watchdog = carried(run, equilibrium, start, state, forces, watchdog)
         # Round-off floor: the internal forces come from differences of nearly equal
         # metrics, so a tiny load on a stiff shell can leave a residual of ~1e-4 of the
         # load that no update removes. A full step that moves nothing (1e-9 of an element,
@@ -598,38 +595,6 @@ def _iterate(
         f"residual ratio {history[-1]:.3g} after {allowed} iterations"
         + (f"; the tangent was singular: {mechanism(model)}" if singular else "")
     )
-
-
-def carried(
-    run: StaticRun,
-    equilibrium: Residual,
-    start: State,
-    state: State,
-    forces,
-    watchdog: Watchdog,
-):
-    """After an attempt's first update, when it imposed the increment's prescribed motion:
-    (``state`` with the directors of ``start`` turned, body by body, by the rotation that best
-    fits the body's motion from ``start`` to ``state``, the forces to reuse, the watchdog to go
-    on with), or the arguments as they are on a model with no body whose director tilt is free
-    (femcore.director_carry: no support holds any of its directors). The first update's own
-    turns of those directors are replaced: a uniform tilt costs such a body no energy, and the
-    linear step leaves it where ``start`` had it in space while the imposed motion turns the
-    body; the later iterations decide the tilt that the energy does decide (docs/theory.md
-    §1.7, "Directors carried with the body"). Not after a load's first step: that linear
-    step overshoots a turning body, and the directors would be turned with the overshoot (a
-    first rule that turned every director with its nodal normal after that step took the
-    clamped heavy cantilever of validation/cases 27-35 iterations an increment instead of
-    4-6)."""
-    carrier = run.carrier
-    if carrier is None or state is start:
-        return state, forces, watchdog
-    turned = carrier.carry(start.directors, start.positions, state.positions)
-    directors = np.where(carrier.carried[:, None], turned, state.directors)
-    run.info["carried_directors"] += 1
-    solver = run.solver
-    restart = Watchdog(run, equilibrium, solver.line_search, solver.update_turn)
-    return replace(state, directors=directors), None, restart
 
 
 def refreeze(run: StaticRun, equilibrium: Residual, start: State, state: State, near: bool = False):

@@ -2,9 +2,7 @@
 (docs/theory.md §6.4).
 
 Loads and prescribed displacements are applied in ``increments`` equal load-factor steps; each
-increment is relaxed to equilibrium before the next one and gives one frame. Where an
-increment's start places the prescribed nodes, the directors of each fibrous body that no
-support holds are turned with the body (docs/theory.md §1.7, "Directors carried with the body").
+increment is relaxed to equilibrium before the next one and gives one frame.
 
 - Masses (Underwood 1983; solvers.fictitious_masses): by default fictitious masses from a
   Gershgorin bound of the tangent stiffness, m_i = (dt^2/4) sum_j |K_ij| / safety^2 with a
@@ -40,7 +38,6 @@ from functools import partial
 import numpy as np
 from numpy.typing import ArrayLike
 
-from femcore.director_carry import DirectorCarrier
 from femcore.fingerprint import fingerprint
 from femcore.model import CompiledModel, Model
 from femcore.results import Frame, Result
@@ -411,21 +408,11 @@ class DynamicRelaxation:
         kinetic_damping = self.damping == "kinetic"
         f_ext, m_ext = model.external_load(load_factor, quasi_static=True)
         if model.has_prescribed:
-            # The directors of each body that no support holds turned with the body as the
-            # prescribed motion places its nodes: a uniform tilt costs it no energy, and the
-            # moments alone would keep that tilt fixed in space while the body turns
-            # (docs/theory.md §1.7, "Directors carried with the body").
-            carrier = DirectorCarrier.of(model)
             target = model.reference_positions + model.prescribed_displacement(
                 load_factor, quasi_static=True
             )
-            state = carried(
-                carrier,
-                state,
-                replace(
-                    state,
-                    positions=np.where(model.translation_prescribed, target, state.positions),
-                ),
+            state = replace(
+                state, positions=np.where(model.translation_prescribed, target, state.positions)
             )
 
         inflate = 1.0  # the factor on the fictitious masses after blow-ups in this increment
@@ -628,15 +615,6 @@ _TURN_CHECK = 10
 _MAX_INFLATION = 1024.0
 #: A residual ratio above this has not fallen (the mechanism watch).
 _STALL_RATIO = 0.5
-
-
-def carried(carrier: DirectorCarrier | None, before: State, after: State) -> State:
-    """``after`` with the directors of each free-tilting body turned further as the body
-    turned from ``before`` to ``after`` (femcore.director_carry; as it is without a carrier)."""
-    if carrier is None:
-        return after
-    directors = carrier.carry(after.directors, before.positions, after.positions)
-    return replace(after, directors=directors)
 
 
 def _iteration_status(increment: int, iteration: int, ratio: float, tol: float) -> str:

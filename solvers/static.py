@@ -243,11 +243,7 @@ class Static:
     (``info["imposed_alone"]``); an attempt that took that first step and fails is tried
     once more with the imposed motion applied alone before the increment is cut
     (``info["imposed_alone_retries"]``; solvers/imposed_alone.py, docs/theory.md §6.5,
-    "Prescribed motion against stuck points"). After that first update
-    the directors of each fibrous body that no support holds are turned with the body (the
-    rotation fitted to its motion): their uniform tilt costs no energy, and the mechanics
-    decides the rest (docs/theory.md §1.7, "Directors carried with the body";
-    ``info["carried_directors"]`` counts the updates).
+    "Prescribed motion against stuck points").
 
     Stability: every converged state gets the number of negative eigenvalues of the tangent
     K_ff last factorised on its way (that of the iterate whose update reached it, a step the

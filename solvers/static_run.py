@@ -17,7 +17,6 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 import scipy.sparse as sp
 
-from femcore.director_carry import DirectorCarrier
 from femcore.dofs import N_COLUMNS, Frames
 from femcore.model import CompiledModel
 from femcore.results import Result
@@ -86,9 +85,6 @@ class StaticRun:
         # linear solver of its own: its patterns would replace the tangents' kept plans.
         self.updated_linear = LinearSolver()
         self.compression_free = compression_free_ratio(solver.compression_free, model)
-        # The directors of the bodies no support holds carried with them after an imposed
-        # first update (solvers.newton.carried; None: no such body).
-        self.carrier = DirectorCarrier.of(model)
         # The steps' projections on the fibre lengths (solvers.newton_fibres) and the level strains
         # (solvers.newton_levels; not with prescribed motion: 3-14-9-29 on the bias extension).
         fibres = FibreEdges(model) if solver.fibre_projection else None
@@ -143,7 +139,6 @@ class StaticRun:
             "imposed_alone": 0,
             "imposed_alone_retries": 0,
             "imposed_alone_opened": 0,
-            "carried_directors": 0,
             "shifted": [],
             "chord_corrections": 0,
             "arc_chords": 0,

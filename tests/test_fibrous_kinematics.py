@@ -15,12 +15,9 @@ are inextensible and slip freely. The tilt is measured from the exact normal of 
 
 import numpy as np
 import pytest
-from scipy.spatial.transform import Rotation
 
-from elements import FibrousShell
-from femcore import Mesh, Model
-from materials import BendingLaw, Fabric, ShearLaw, presets
-from solvers import DynamicRelaxation, Static
+from materials import BendingLaw, Fabric, ShearLaw
+from solvers import Static
 from validation.references.elastica import heavy_cantilever
 from validation.specimens import GRAVITY, deck_of_cards, fibrous_strip
 
@@ -33,14 +30,11 @@ DECK = Fabric(
 )
 
 
-def bent_deck(
-    cells: int, bend_deg: float, thickness: str = "nodal", increments: int = 1, solver=None
-):
+def bent_deck(cells: int, bend_deg: float, thickness: str = "nodal", increments: int = 1):
     """(tilt error (deg), thickness error (relative), at the free end) per node, and the tilt
     from the vertical (rad)."""
     deck = deck_of_cards(cells, np.radians(bend_deg), DECK, thickness=thickness)
-    solver = Static(increments=increments, progress=False) if solver is None else solver
-    result = solver.solve(deck.model)
+    result = Static(increments=increments, progress=False).solve(deck.model)
     assert result.converged
     cosine = np.sum(result.directors * deck.normal, axis=1)
     tilt = np.arccos(np.clip(cosine, -1.0, 1.0))
@@ -129,59 +123,3 @@ def test_heavy_cantilever_beyond_60_degrees_follows_the_elastica_and_arctan_thet
     normal = np.column_stack([np.sin(theta), np.zeros_like(theta), np.cos(theta)])
     tilt = np.arccos(np.clip(np.sum(result.directors * normal, axis=1), -1.0, 1.0))
     assert np.degrees(np.abs(tilt - np.arctan(theta))).max() < 2.0
-
-
-# Directors carried with the body (docs/theory.md §1.7): a uniform tilt of the directors over a
-# flat region stretches no fibre level, so where no clamp holds them their tilt from the normal
-# is what the solver's start leaves. Closed form: a rigid motion moves every material line with
-# the body, so the directors are R e3 (tilt 0 from the normal) and the thickness along them h.
-
-
-def turned_strip(rotation_vector, solver):
-    """A free G1151 strip, 100 x 10 mm (h = 15 mm), every node's translation prescribed along
-    the rigid rotation of ``rotation_vector`` (rad): (result, R e3)."""
-    turn = Rotation.from_rotvec(rotation_vector).as_matrix()
-    mesh = Mesh.rectangle(100.0, 10.0, nx=10, ny=2)
-    model = Model(mesh)
-    model.add(FibrousShell(presets.g1151_laminate()))
-    shift = mesh.points @ turn.T - mesh.points
-    model.displace(np.arange(mesh.n_nodes), ux=shift[:, 0], uy=shift[:, 1], uz=shift[:, 2])
-    return solver.solve(model), turn @ [0.0, 0.0, 1.0]
-
-
-@pytest.mark.parametrize("rotation_vector", [(0.0, np.radians(30.0), 0.0), (0.0, 1.2, 0.5)])
-@pytest.mark.parametrize("solver", [Static, DynamicRelaxation])
-def test_a_rigid_rotation_carries_the_free_directors_with_the_body(rotation_vector, solver):
-    # Before the directors were carried: tilt 30.0 deg (DynamicRelaxation) and 32.5 deg
-    # (Static) from the normal at 30 deg about y, thickness 17.3 and 17.8 mm; 98 deg and the
-    # 5 h cap (75 mm) for the rotation vector (0, 1.2, 0.5). Tolerances: the tilt is the
-    # arccos of a cosine 1 - 1e-16 (1.2e-6 deg of rounding), the thickness h / cos (1e-15).
-    result, normal = turned_strip(rotation_vector, solver(increments=4, progress=False))
-    assert result.converged
-    thickness = presets.g1151_laminate().thickness
-    assert np.abs(result.field("director_tilt_deg")).max() < 1e-4
-    assert np.abs(result.thickness / thickness - 1.0).max() < 1e-12
-    assert np.abs(result.directors - normal).max() < 1e-12
-    assert np.abs(result.reactions).max() < 1e-8  # a rigid motion carries no force
-
-
-def test_deck_bent_in_increments_still_tilts_by_arctan_theta():
-    # The clamp decides the tilt: four increments to 45 deg, the tolerances of one
-    # (test_deck_bent_through_45_degrees).
-    tilt_error, thickness_error, end, _ = bent_deck(20, 45.0, increments=4)
-    assert tilt_error[~end].max() < 0.0045
-    assert thickness_error[~end].max() < 0.00006
-    assert tilt_error[end].max() < 0.55
-    assert thickness_error[end].max() < 0.012
-
-
-def test_deck_relaxed_dynamically_tilts_by_arctan_theta():
-    # DynamicRelaxation, 10 cells, 45 deg in two increments. Measured: 0.0139 deg and 0.017 %
-    # inside, 0.825 deg and 1.9 % at the free end, as Static at 10 cells (margin about 25 %).
-    # The clamp holds the directors: the deck is not carried (femcore/director_carry.py).
-    solver = DynamicRelaxation(increments=2, progress=False)
-    tilt_error, thickness_error, end, _ = bent_deck(10, 45.0, solver=solver)
-    assert tilt_error[~end].max() < 0.0175
-    assert thickness_error[~end].max() < 0.00022
-    assert tilt_error[end].max() < 1.05
-    assert thickness_error[end].max() < 0.024

@@ -302,13 +302,6 @@ class FibrousShellBlock(ElementBlock):
         geo = geometry.geometry(self, state.positions, state.directors, layers=False)
         return geometry.node_thickness(self, geo)
 
-    def free_tilt_cells(self) -> np.ndarray | None:
-        """With nodal normals the block's connectivity (m, 3): a uniform tilt of the directors
-        stretches no fibre level (docs/theory.md §1.7), so the quasi-static solvers turn the
-        directors of a body nothing holds with the body. With element normals (Eq. 15) None:
-        the published element keeps its directors' orientation (§1.4)."""
-        return self.connectivity if self.nodal_normals else None
-
     def director_tilt(self, state: State) -> np.ndarray:
         """Angle between the director and the nodal normal of the block (n,), rad, in [0, pi];
         0 at nodes outside the block. A stack of freely slipping layers bent by theta from a
