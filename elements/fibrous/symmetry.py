@@ -50,6 +50,11 @@ __all__ = [
 # How far a plane's nodes may lie off it, as a share of the block's extent; how close to a
 # coordinate axis its normal must be (the supports fix a global translation along it).
 PLANE_TOLERANCE = 1e-6
+# How far the sides' planes (perpendicular to their cells) may lean from the symmetry plane:
+# a faceted curved shell's cells lean by half their facet angle (5 deg for 10-deg facets of a
+# cylinder cut along its crown); 30 deg is a facet of 60 deg, coarser than any mesh that
+# bends well.
+LEAN = np.radians(30.0)
 AXES = ("ux", "uy", "uz")
 
 
@@ -92,13 +97,15 @@ def symmetry_sides(
     on a symmetry plane of the ``symmetric`` option (0 on the others).
 
     A plane's sides are the boundary sides (``neighbour`` -1) whose two nodes are in its set;
-    its normal is inferred from the reference geometry, perpendicular to those sides and to
-    their cells' ``reference_normal`` (m, 3), signed per side so that p x t points along the
-    cell's normal (t the side from ``SIDE_FROM`` to ``SIDE_TO``).
+    its normal p is the coordinate axis nearest the mean of the sides' planes (each
+    perpendicular to its side and to its cell's ``reference_normal`` (m, 3), leaning from
+    the plane by half a facet angle on a curved shell), signed per side so that p x t points
+    along the cell's normal (t the side from ``SIDE_FROM`` to ``SIDE_TO``).
 
-    Raises ValueError when a set makes no boundary side, when its sides do not share one
-    plane normal or its nodes do not lie on that plane (within ``PLANE_TOLERANCE`` of the
-    block's extent), or when the normal is not a coordinate axis.
+    Raises ValueError when a set makes no boundary side, when its sides' planes differ by more
+    than ``LEAN`` from their mean, when its nodes do not lie on one coordinate plane (within
+    ``PLANE_TOLERANCE`` of the block's extent; a plane whose normal is no coordinate axis
+    said so), or when the shell meets it more than ``LEAN`` from a right angle.
     """
     points = np.asarray(mesh.points, dtype=float)
     used = points[np.unique(connectivity)]
@@ -120,28 +127,40 @@ def symmetry_sides(
         t = t - points[conn[np.arange(cell.size), SIDE_FROM[side]]]
         normal = np.cross(t, reference_normal[cell])
         normal /= np.linalg.norm(normal, axis=1, keepdims=True)
-        axis = int(np.argmax(np.abs(normal[0])))
-        p = np.sign(normal[0, axis]) * normal[0]
-        spread = np.abs(np.abs(normal @ p) - 1.0).max()
-        if spread > PLANE_TOLERANCE:
+        # the sides' planes, perpendicular to the shell: on a faceted curved shell each leans
+        # from the plane by half its cell's facet angle, so they are judged against their
+        # mean, within LEAN (a shell meeting its plane at a right angle)
+        mean = (normal * np.sign(normal @ normal[0])[:, None]).sum(axis=0)
+        mean /= np.linalg.norm(mean)
+        spread = float(np.arccos(np.clip(np.abs(normal @ mean), 0.0, 1.0)).max())
+        if spread > LEAN:
             raise ValueError(
                 f"symmetric: the edges of node set {number} do not lie in one plane normal to "
-                f"the shell (their planes' normals differ by up to {np.sqrt(2 * spread):.2g} "
-                "rad); give one set a plane"
+                f"the shell (their planes' normals differ by up to {spread:.2g} rad); give one "
+                "set a plane"
             )
-        if abs(abs(p[axis]) - 1.0) > PLANE_TOLERANCE:
-            raise ValueError(
-                f"symmetric: node set {number}'s plane has the normal {np.round(p, 6).tolist()}, "
-                "not a coordinate axis: its nodes must be held along the normal with "
-                "model.fix, which fixes ux, uy or uz"
-            )
+        axis = int(np.argmax(np.abs(mean)))
         p = np.zeros(3)
         p[axis] = 1.0
         off = np.abs((points[nodes] - points[nodes[0]]) @ p).max()
         if off > PLANE_TOLERANCE * extent:
+            if 1.0 - abs(mean[axis]) > PLANE_TOLERANCE:
+                raise ValueError(
+                    f"symmetric: node set {number}'s plane has the normal "
+                    f"{np.round(mean, 6).tolist()}, not a coordinate axis: its nodes must be "
+                    "held along the normal with model.fix, which fixes ux, uy or uz"
+                )
             raise ValueError(
                 f"symmetric: node set {number} is not on one plane: its nodes lie up to "
                 f"{off:.3g} mm apart along the plane's normal {AXES[axis][1]}"
+            )
+        lean = float(np.arccos(np.clip(abs(mean[axis]), 0.0, 1.0)))
+        if lean > LEAN:
+            raise ValueError(
+                f"symmetric: the shell meets node set {number}'s plane ({AXES[axis][1]} = "
+                f"{points[nodes[0], axis]:.6g}) {np.degrees(lean):.3g} deg from a right "
+                "angle: a symmetric shell meets its plane at a right angle (a coarse facet "
+                f"leans by half its angle; at most {np.degrees(LEAN):.3g} deg here)"
             )
         mirror[cell, side] = np.sign(normal @ p)[:, None] * p
     return mirror
