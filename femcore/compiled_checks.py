@@ -115,6 +115,15 @@ def check_block(element: ElementType, block: ElementBlock, active: np.ndarray) -
         active,
     )
     _check_flags(block, ("compression_free_tangent", "has_fibre_strains"))
+    cell_ids = getattr(block, "cell_ids", None)
+    rows = len(np.asarray(block.connectivity))
+    if cell_ids is None or np.shape(cell_ids) != (rows,):
+        raise ValueError(
+            f"{type(block).__name__}.cell_ids is "
+            f"{'missing' if cell_ids is None else f'of shape {np.shape(cell_ids)}'}: a block "
+            f"keeps the mesh ids of its cells, ({rows},) int in the order of its connectivity "
+            "(bind's cell_ids: the outputs and the static solver place its cells by them)"
+        )
 
 
 def _check_flags(block: Part, names: tuple[str, ...]) -> None:

@@ -28,7 +28,8 @@ block its entry with the state; a block never mutates it: ``update_history`` ret
 when a solver accepts a step (state in, new state out).
 
 Sign convention: ``internal_force`` returns F_int = dW/dx and the moment vectors dW/dpsi (Bai
-Eq. 22-23), so that the residual a solver drives to zero is F_ext - F_int. Units in the
+Eq. 22's F_int, the fibrous shell's nodal forces Eq. 24 and moments Eq. 28), so that the
+residual a solver drives to zero is F_ext - F_int. Units in the
 docstrings are those of the examples (mm, N, t, s); any consistent set works.
 """
 
@@ -241,7 +242,8 @@ class ElementBlock(ReadOnlyState, ABC):
         ``state``, zero in the reference; asked only of a block that declares
         ``has_fibre_strains`` (solvers/newton_levels.py), which must override it."""
         raise NotImplementedError(
-            f"{type(self).__name__} gives no fibre strains (has_fibre_strains is False)"
+            f"{type(self).__name__} declares has_fibre_strains but does not override "
+            "fibre_strains: give both, or neither"
         )
 
     def fibre_strain_gradient(self, state: State) -> tuple:
@@ -250,7 +252,8 @@ class ElementBlock(ReadOnlyState, ABC):
         ``level_strain_gradient``); asked only of a block that declares ``has_fibre_strains``,
         which must override it."""
         raise NotImplementedError(
-            f"{type(self).__name__} gives no fibre strain gradient (has_fibre_strains is False)"
+            f"{type(self).__name__} declares has_fibre_strains but does not override "
+            "fibre_strain_gradient: give both, or neither"
         )
 
     def apply_supports(self, held: np.ndarray, constrained: np.ndarray | None = None) -> None:

@@ -379,7 +379,8 @@ class InteractionBlock(ReadOnlyState, ABC):
         ``pressure`` (r,) N at the rows ``points`` (r,) of ``set_model``: asked only of a block
         whose ``set_model`` gave a model, which must override it."""
         raise NotImplementedError(
-            f"{type(self).__name__} gives no set model, so no set to change (set_model)"
+            f"{type(self).__name__}.set_model gave a model but with_set is not overridden: "
+            "a block that gives a set model changes its set with with_set"
         )
 
     @contextmanager

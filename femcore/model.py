@@ -107,12 +107,18 @@ class Model:
                 f"{type(element).__name__} is not an element type: expected an instance of a "
                 "subclass of femcore.element.ElementType (elements.base)"
             )
-        cell_type = element.cell_type
+        cell_type: str = getattr(element, "cell_type", "")
         if cell_type not in CELL_KINDS:
             raise ValueError(
                 f"{type(element).__name__}.cell_type is {cell_type!r}: expected one of "
-                f"{tuple(CELL_KINDS)} (what acts on nodes without cells is an interaction: "
-                "femcore.interaction, model.interact)"
+                f"{tuple(CELL_KINDS)}, on the element type as on its block (what acts on "
+                "nodes without cells is an interaction: femcore.interaction, model.interact)"
+            )
+        if not getattr(element, "dofs", None):
+            raise ValueError(
+                f"{type(element).__name__}.dofs is {getattr(element, 'dofs', None)!r}: the "
+                "element type declares the DOFs its cells' nodes carry, among ux, uy, uz, "
+                "alpha, beta (as its block does)"
             )
         n_cells = len(self.mesh.cells(cell_type))
         if cells is None:

@@ -228,3 +228,36 @@ def test_an_elements_capability_flag_of_the_wrong_type_is_refused_at_compile():
     model.add(FlaggedCable(axial_stiffness=1e3, mass_per_length=1e-6))
     with pytest.raises(ValueError, match="has_fibre_strains is 'yes': expected True or False"):
         model.compile()
+
+
+def test_an_element_block_without_its_cells_ids_is_refused_when_compiled():
+    """A block that does not keep bind's cell_ids ran under the explicit solver and stopped
+    Static with a bare AttributeError; it is refused naming the attribute."""
+
+    class Forgetful(Cable):
+        def bind(self, mesh, cell_ids, directors):
+            block = super().bind(mesh, cell_ids, directors)
+            del block.cell_ids
+            return block
+
+    model = Model(Mesh.line((0.0, 0.0, 0.0), (10.0, 0.0, 0.0), 4))
+    model.add(Forgetful(axial_stiffness=1e3, mass_per_length=1e-9))
+    with pytest.raises(ValueError, match=r"cell_ids is missing: a block keeps the mesh ids"):
+        model.compile()
+
+
+def test_an_element_type_without_dofs_or_cell_type_is_refused_naming_it():
+    """The README's type declares dofs and cell_type as its block does: one without them
+    was a bare AttributeError, or an 'empty DOF list' naming no type."""
+
+    class Bare(Cable):
+        cell_type = None
+
+    with pytest.raises(ValueError, match=r"Bare.cell_type is None: expected one of"):
+        Model(Mesh.line((0.0, 0.0, 0.0), (10.0, 0.0, 0.0), 4)).add(Bare(1e3, 1e-9))
+
+    class Silent(Cable):
+        dofs = ()
+
+    with pytest.raises(ValueError, match=r"Silent.dofs is \(\): the element type declares"):
+        Model(Mesh.line((0.0, 0.0, 0.0), (10.0, 0.0, 0.0), 4)).add(Silent(1e3, 1e-9))
