@@ -21,7 +21,7 @@ import numpy as np
 
 from femcore.assembly import CellTangent, SparseTangent
 from femcore.element import ElementBlock
-from femcore.interaction import OPENING_LAWS, FacetRecord, InteractionBlock
+from femcore.interaction import OPENING_LAWS, FacetRecord, InteractionBlock, is_friction
 from femcore.state import State
 
 __all__ = [
@@ -169,12 +169,7 @@ def check_interaction_capabilities(
     """
     name = type(block).__name__
     friction = block.friction
-    if (
-        isinstance(friction, (bool, np.bool_))
-        or not isinstance(friction, (int, float, np.integer, np.floating))
-        or not np.isfinite(friction)
-        or friction < 0.0
-    ):
+    if not is_friction(friction):
         raise AssertionError(f"{name}.friction is {friction!r}: a finite real >= 0 expected")
     keeps_sets = overrides(block, "freeze", InteractionBlock)
     if not _flag(block, "unilateral_fallback") and not keeps_sets:

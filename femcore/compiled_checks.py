@@ -15,7 +15,7 @@ import numpy as np
 from femcore.dofs import dof_columns, dof_names
 from femcore.element import ElementBlock, ElementType
 from femcore.entry_error import EntryError, EntryWarning
-from femcore.interaction import OPENING_LAWS, Body, Interaction, InteractionBlock
+from femcore.interaction import OPENING_LAWS, Body, Interaction, InteractionBlock, is_friction
 from femcore.mesh import Mesh
 
 __all__ = [
@@ -72,12 +72,7 @@ def bound_interaction(
     if isinstance(n_tools, bool) or not isinstance(n_tools, (int, np.integer)) or n_tools < 0:
         raise ValueError(f"{type(block).__name__}.n_tools is {n_tools!r}: expected an int >= 0")
     friction = block.friction
-    if (
-        isinstance(friction, (bool, np.bool_))
-        or not isinstance(friction, (int, float, np.integer, np.floating))
-        or not np.isfinite(friction)
-        or friction < 0.0
-    ):
+    if not is_friction(friction):
         raise ValueError(
             f"{type(block).__name__}.friction is {friction!r}: expected a finite number >= 0 "
             "(the Coulomb coefficient the static solver reads)"

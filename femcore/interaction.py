@@ -64,7 +64,9 @@ __all__ = [
     "FacetRecord",
     "Interaction",
     "InteractionBlock",
+    "is_friction",
 ]
+
 
 #: The explicit step is evaluated every this many steps (solvers/explicit.py), and with it
 #: ``springs_at``, whose springs must bound the stiffness until then.
@@ -80,6 +82,18 @@ ACTIVE_SET_HYSTERESIS = True
 #: from the first increment on; "ramp", its explicit law in the first increment of each phase
 #: of the load path, its history ``released`` (solvers/newton.py ``opens_on_ramp``).
 OPENING_LAWS = (None, "ramp")
+
+
+def is_friction(value: Any) -> bool:
+    """Whether ``value`` is a Coulomb coefficient an interaction may declare: a finite real
+    number >= 0, not a bool (``InteractionBlock.friction``; the compile check and the
+    interaction kit both ask)."""
+    return (
+        not isinstance(value, (bool, np.bool_))
+        and isinstance(value, (int, float, np.integer, np.floating))
+        and bool(np.isfinite(value))
+        and bool(value >= 0.0)
+    )
 
 
 @dataclass(frozen=True)

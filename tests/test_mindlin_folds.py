@@ -166,3 +166,19 @@ def test_the_shipped_curved_shells_compile_silently(case):
         compiled.reference_positions, block.connectivity, compiled.reference_directors
     )
     assert tilt.max() < FOLD_TILT_DEG / 3
+
+
+def test_a_fold_between_two_blocks_warns_that_its_director_is_shared():
+    """The 90-deg L with one block a leg: each block's own cells are flat at the fold (they
+    turned by 0 deg there), so the warning says the director is shared with another block's
+    cells (it said the neighbouring cells turned by 0 deg)."""
+    mesh, _, _ = strip(folded(4, 90.0))
+    centres = mesh.points[mesh.triangles].mean(axis=1)
+    first = np.flatnonzero(centres[:, 0] < LEG - 1e-9)
+    second = np.flatnonzero(centres[:, 0] >= LEG - 1e-9)
+    model = Model(mesh)
+    section = ElasticShell(YOUNG, 0.0, THICKNESS, 1e-9)
+    model.add(MindlinShell(section), cells=first)
+    model.add(MindlinShell(section), cells=second)
+    with pytest.warns(UserWarning, match="shared with cells of another block"):
+        model.compile()
