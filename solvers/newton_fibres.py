@@ -53,7 +53,25 @@ PROJECTION_TOLERANCE = 1e-12
 def fibre_edges(model: CompiledModel) -> np.ndarray:
     """(k, 2) node pairs of the fibre edges of every element block that gives them (its
     ``fibre_edges()``, femcore.element), each edge once; (0, 2) when there are none."""
-    pairs = [edges for block in model.blocks if len(edges := block.fibre_edges())]
+    pairs = []
+    for block in model.blocks:
+        edges = np.asarray(block.fibre_edges())
+        if edges.size == 0:
+            continue
+        # a user block's edges, checked where they are first read: a bare IndexError deep in
+        # the projection, or a third column silently dropped, otherwise
+        if (
+            edges.ndim != 2
+            or edges.shape[1] != 2
+            or not np.issubdtype(edges.dtype, np.integer)
+            or edges.min() < 0
+            or edges.max() >= model.n_nodes
+        ):
+            raise ValueError(
+                f"{type(block).__name__}.fibre_edges() gave an array of shape {edges.shape} "
+                f"and type {edges.dtype}: expected (k, 2) int node ids in 0..{model.n_nodes - 1}"
+            )
+        pairs.append(edges)
     if not pairs:
         return np.zeros((0, 2), dtype=np.int64)
     edges = np.sort(np.concatenate(pairs).astype(np.int64), axis=1)

@@ -120,9 +120,21 @@ def test_the_static_solver_reads_friction_gaps_and_opening_law_through_the_proto
 
 def test_the_fibre_edges_of_a_users_element_reach_the_fibre_projection():
     bar = _user(_Bar(), fibre_edges=lambda self: np.array([[1, 0]]))
-    model = SimpleNamespace(blocks=[_Bar(), bar], parts=[_Bar(), bar])
+    model = SimpleNamespace(blocks=[_Bar(), bar], parts=[_Bar(), bar], n_nodes=2)
     np.testing.assert_array_equal(fibre_edges(model), [[0, 1]])
-    assert fibre_edges(SimpleNamespace(blocks=[_Bar()], parts=[])).shape == (0, 2)
+    assert fibre_edges(SimpleNamespace(blocks=[_Bar()], parts=[], n_nodes=2)).shape == (0, 2)
+
+
+@pytest.mark.parametrize(
+    "edges", [np.array([[0, 99]]), np.zeros((1, 3), int), np.array([[0.0, 1.0]])]
+)
+def test_fibre_edges_off_the_mesh_or_of_another_shape_are_refused_naming_the_block(edges):
+    """Read by Static's fibre projection: a node past the mesh was a bare IndexError deep
+    in it, a third column silently dropped."""
+    bar = _user(_Bar(), fibre_edges=lambda self: edges)
+    model = SimpleNamespace(blocks=[bar], parts=[bar], n_nodes=2)
+    with pytest.raises(ValueError, match=r"User_Bar.fibre_edges\(\) gave an array of shape"):
+        fibre_edges(model)
 
 
 def test_a_node_cycling_across_a_users_meshed_crease_is_named():
