@@ -38,7 +38,8 @@ RULES = {
     "laws": "MindlinShell(fabric): the section is the fabric's own tension, shear and bending "
     "laws (non-linear as given), transverse shear S and twisting D_t stated (docs/theory.md "
     "§5.7)",
-    "fit": "the laws section with its bending laws scaled and its transverse shear S fitted "
+    "fit": "the laws section with its bending laws scaled (and the twisting D_t they give) and its "
+    "transverse shear S fitted "
     "by least squares so that the Mindlin mid-surface matches the fibrous one along a path "
     "(Bai's calibration of Abaqus S3); then directors and thickness are compared",
     "initial-slope": "ElasticShell.equivalent: E = 12 B0 / h^3 per direction from the initial "

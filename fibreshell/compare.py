@@ -27,7 +27,7 @@ import numpy as np
 
 from fibreshell.calibration import CALIBRATIONS, Calibration
 from fibreshell.case import Case
-from fibreshell.confidence import interval_text
+from fibreshell.confidence import below_zero, interval_text
 from fibreshell.outputs import IDENTIFY_FILES, MATERIAL_LINES, remove_run_folder
 from fibreshell.run import Run, profile, run_case, section_thickness, strict_json
 
@@ -428,13 +428,19 @@ def _calibration_lines(calibration: dict[str, Any]) -> list[str]:
                 f"  fitted along path {value['path']!r}: RMS height residual "
                 f"{value['residual_rms_mm']:.3g} mm in {value['evaluations']} evaluations"
             )
+            if not value.get("success", True):
+                # the values are the last the fit evaluated, not a converged fit's
+                lines.append(
+                    f"  NOT CONVERGED: {value.get('message', '')} The values below are the "
+                    "last evaluated; give the fit more evaluations (fit_evaluations)"
+                )
             for name, ends in value["confidence_95"].items():
                 found = value["values"][name]
                 if ends is None or not all(e is not None and np.isfinite(e) for e in ends):
                     lines.append(f"    {name} = {found:.4g} (no interval: the data cannot tell)")
                     continue
                 low, shown, high = interval_text(found, *ends)
-                lines.append(f"    {name} = {shown} (95 %: {low} to {high})")
+                lines.append(f"    {name} = {shown} (95 %: {low} to {high}){below_zero(ends)}")
         else:
             lines.append(f"  {key} = {value if isinstance(value, str) else f'{value:.4g}'}")
     return lines

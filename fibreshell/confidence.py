@@ -6,7 +6,7 @@ from __future__ import annotations
 
 import math
 
-__all__ = ["interval_text"]
+__all__ = ["below_zero", "interval_text"]
 
 # The most significant digits a float64 needs to be read back exactly.
 _EXACT = 17
@@ -41,3 +41,16 @@ def interval_text(value: float, low: float, high: float, digits: int = 4) -> tup
         if not apart or read[0] < read[1] < read[2]:
             break
     return texts[0], texts[1], texts[2]
+
+
+def below_zero(ends) -> str:
+    """The note printed after an interval (low, high) whose low end is at or below zero: the
+    interval is the fit's linearisation, theta +- t sigma (fibreshell/identify.py), and a
+    stiffness or a density, fitted as ln(theta / theta_0) and so positive, is then not
+    determined by the data; "" otherwise."""
+    return (
+        " (it reaches zero: the data do not determine this value; the linearised interval "
+        "is not to be read as a bound)"
+        if float(ends[0]) <= 0.0
+        else ""
+    )

@@ -35,7 +35,7 @@ import numpy as np
 from fibreshell import registry
 from fibreshell.case import case_from_data, read_case_data
 from fibreshell.cluster import Failure, dask_client, map_tasks
-from fibreshell.confidence import interval_text
+from fibreshell.confidence import below_zero, interval_text
 from fibreshell.outputs import IDENTIFY_FILES
 from fibreshell.run import strict_json
 from fibreshell.sweep import RUN_KEYS, apply_overrides, read_value, run_variant, summary_row
@@ -523,12 +523,13 @@ def format_result(result: Identification) -> str:
         value = f"{result.values[i]:.6g}"
         if np.isfinite(low) and np.isfinite(high):
             start, value, end = interval_text(result.values[i], low, high, digits=6)
-            interval = f"95 % interval [{start}, {end}]"
+            interval = f"95 % interval [{start}, {end}]{below_zero((low, high))}"
         else:
             interval = "no interval (as many data as parameters, or they cannot be told apart)"
         lines.append(f"{key} = {value} (start {result.start[i]:.6g}), {interval}")
     lines.append(
         f"RMS residual {result.residual_rms:.4g}; {result.evaluations} evaluations, "
-        f"{result.runs} runs, {result.wall_time_s:.1f} s; {result.message}"
+        f"{result.runs} runs, {result.wall_time_s:.1f} s; "
+        f"{'' if result.success else 'NOT CONVERGED: '}{result.message}"
     )
     return "\n".join(lines)

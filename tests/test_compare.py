@@ -297,3 +297,24 @@ def test_the_plies_default_to_the_fabric_s_ply_count(tmp_path):
     inline = _case(tmp_path, CANTILEVER)  # an inline fabric states no ply count
     with pytest.raises(ValueError, match="states no ply count; give the number of plies"):
         ply_stack(inline)
+
+
+def test_a_fit_stopped_at_its_evaluation_cap_says_so_and_an_interval_through_zero_is_flagged():
+    """A review's fit with fit_evaluations=2 printed "fitted ... bending_scale = 1.003" as a
+    finished fit, with transverse_shear's interval -13.83 to 16.13: the cap is said, and an
+    interval reaching zero (the linearisation of a value fitted as positive) is flagged."""
+    from fibreshell.compare import summary_lines
+
+    fit = {"path": "mid", "residual_rms_mm": 0.2, "evaluations": 2, "success": False,
+           "message": "The maximum number of function evaluations is exceeded.",
+           "values": {"bending_scale": 1.003, "transverse_shear": 1.15},
+           "confidence_95": {"bending_scale": [0.99, 1.01],
+                             "transverse_shear": [-13.83, 16.13]}}  # fmt: skip
+    comparison = {"calibration": {"name": "fit", "rule": "fitted", "numbers": {"fit": fit}},
+                  "differences": {}}  # fmt: skip
+    lines = summary_lines(comparison)
+    assert any(line.startswith("  NOT CONVERGED: The maximum number") for line in lines)
+    shear = next(line for line in lines if "transverse_shear" in line)
+    assert "it reaches zero: the data do not determine this value" in shear
+    bending = next(line for line in lines if "bending_scale" in line)
+    assert "reaches zero" not in bending

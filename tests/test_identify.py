@@ -214,3 +214,17 @@ def test_a_run_that_fails_during_the_fit_stops_it_with_its_values(dask_scheduler
     with pytest.raises(FitFailed, match=r"the run with .*part.0.material.bending = 0.1.* failed"):
         identify(case, {"x": [30.0], "z": [-5.0]}, {"part.0.material.bending": None},
                  scheduler=dask_scheduler, progress=False)  # fmt: skip
+
+
+def test_a_fit_that_did_not_converge_and_an_interval_through_zero_are_said():
+    from fibreshell.identify import Identification, format_result
+
+    found = Identification(
+        keys=["part.0.material.bending"], start=np.array([0.5]), values=np.array([0.327819]),
+        standard_errors=np.array([3.0]), intervals=np.array([[-5.9749, 6.63054]]),
+        residual_rms=0.1, success=False, message="the cap was reached", evaluations=2, runs=2,
+        wall_time_s=1.0, responses=["z"],
+    )  # fmt: skip
+    printed = format_result(found).splitlines()
+    assert "it reaches zero: the data do not determine this value" in printed[0]
+    assert printed[-1].endswith("NOT CONVERGED: the cap was reached")

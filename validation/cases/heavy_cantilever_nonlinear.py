@@ -222,7 +222,13 @@ def render(data: NonlinearCantileverData, out_dir: Path) -> list[Figure]:
         ax.plot(rigid["x"], rigid["z"], "-", color="0.3", label="heavy elastica, bilinear (BVP)")
         flexible = data.references["mindlin"]
         ax.plot(flexible["x"], flexible["z"], ":", color="k", label="same, shear-flexible (S)")
-        ax.plot(linear["x"], linear["z"], "--", color="0.6", label="linear fit B = 7.5 N mm")
+        ax.plot(
+            linear["x"],
+            linear["z"],
+            "--",
+            color="0.6",
+            label="linear law of the initial slope, B = 7.5 N mm",
+        )
         for (kinematics, (label, _)), marker in zip(KINEMATICS.items(), ("o", "s")):
             if kinematics in data.sides:
                 p = data.sides[kinematics]
@@ -243,8 +249,9 @@ def render(data: NonlinearCantileverData, out_dir: Path) -> list[Figure]:
             shape,
             "A G986 strip under its own weight with Bai's bilinear bending law, side y = 0: "
             "the fibrous and the Mindlin shell against the heavy elastica of the bilinear law "
-            "(line; dotted with the Mindlin shell's transverse shear) and of a linear fit "
-            "(dashed). Each kinematics should sit on its own reference, not on the linear fit.",
+            "(line; dotted with the Mindlin shell's transverse shear) and of the linear law of "
+            "the initial slope, B = 7.5 N mm (dashed). Each kinematics should sit on its own "
+            "reference, not on the linear law.",
         ),
         Figure(
             convergence,
