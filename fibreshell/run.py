@@ -15,6 +15,7 @@ from typing import Any
 
 import numpy as np
 
+from femcore.dofs import dof_columns
 from femcore.results import Frame, Result
 from femcore.writable import FIRST_FRAMES, OutputError, check_folder, frame_bytes, series_frames
 from fibreshell.case import Case
@@ -218,7 +219,7 @@ def run_case(
     error = "" if failure is None else str(failure)
     status = "interrupted" if isinstance(failure, Interrupted) else "stopped" if error else "done"
     label = kinematics or ("fibrous" if case.has_fibrous else case.parts[0]["kind"])
-    summary = summarise(case, result, label, error, wall)
+    summary = summarise(case, result, label, error, wall, held_directors(model))
     summary["status"] = status
     summary["checkpoint"] = str(checkpoint) if checkpoint is not None else None
     try:
@@ -432,7 +433,26 @@ def _say_crossings(crossed: dict[str, dict[str, Any]], lower_rule: str | None) -
     )
 
 
-def summarise(case: Case, result: Result, kinematics: str, error: str, wall: float) -> dict:
+def held_directors(model: Any) -> np.ndarray:
+    """(k,) int: the nodes whose directors the model's supports hold (alpha and beta fixed,
+    or every DOF): a clamp, where the director is imposed."""
+    alpha, beta = dof_columns(("alpha", "beta"))
+    held: list[np.ndarray] = []
+    for fix in model.fixes:
+        columns = fix.columns
+        if columns is None or (alpha in columns and beta in columns):
+            held.append(np.asarray(fix.nodes, dtype=np.int64))
+    return np.unique(np.concatenate(held)) if held else np.zeros(0, dtype=np.int64)
+
+
+def summarise(
+    case: Case,
+    result: Result,
+    kinematics: str,
+    error: str,
+    wall: float,
+    held: np.ndarray | None = None,
+) -> dict:
     """The numbers of a run for summary.json: how it ended, the history sets at the final
     frame, the force on each rigid tool, the largest fibre strain and director tilt where the
     element reports them, the profiles along the paths, a ``[layup]``'s per-ply numbers
@@ -477,7 +497,12 @@ def summarise(case: Case, result: Result, kinematics: str, error: str, wall: flo
             )
         )
     if "director_tilt_deg" in final.fields.get("point", {}):
-        tilt = final.fields["point"]["director_tilt_deg"]
+        tilt = np.array(final.fields["point"]["director_tilt_deg"], dtype=float)
+        if held is not None and held.size and held.size < len(tilt):
+            # a held director is imposed: its tilt is measured against the clamp's one-sided
+            # facets (a Mindlin clamp read 13.7 deg where the next node out leans 3.1; the
+            # fibrous shell measures its clamp against the reference normal, 0)
+            tilt[held] = np.nan
         out["director_tilt_deg"] = {"min": float(np.nanmin(tilt)), "max": float(np.nanmax(tilt))}
     if case.layup is not None:  # per ply: angle, shear, displacement, slip over the one below
         out["layup"] = layup_summary(case.layup, case.mesh.points, final)

@@ -15,6 +15,7 @@ import elements.ply_contact  # noqa: F401  (declares the components of its field
 from femcore.field_names import LEVELS, component_names, level_names, name_components
 from femcore.xdmf import write_xdmf
 from fibreshell import load_case, run_case
+from fibreshell.run import held_directors
 
 # The README's strip, coarser and in one increment: a fibrous run whose directors tilt.
 STRIP = """
@@ -90,11 +91,15 @@ def test_a_field_named_with_its_unit_reads_back_with_its_values(strip_run):
 
 
 def test_the_director_tilt_is_in_degrees_alike_in_the_vtu_and_in_summary_json(strip_run):
+    """summary.json's range is the field's over the nodes whose directors no support holds
+    (a held director is imposed: fibreshell.run.held_directors)."""
     _, out = strip_run
     tilt = meshio.read(last_frame(out)).point_data["director_tilt_deg"]
+    free = np.ones(len(tilt), dtype=bool)
+    free[held_directors(load_case(out.parent / "strip.toml").model())] = False
     summary = json.loads((out / "summary.json").read_text())["director_tilt_deg"]
-    assert summary["max"] == pytest.approx(tilt.max(), rel=1e-12)
-    assert summary["min"] == pytest.approx(tilt.min(), abs=1e-12)
+    assert summary["max"] == pytest.approx(tilt[free].max(), rel=1e-12)
+    assert summary["min"] == pytest.approx(tilt[free].min(), abs=1e-12)
     assert 5.0 < summary["max"] < 90.0  # degrees: the sagging strip's directors lean
 
 
@@ -228,3 +233,20 @@ def test_two_element_types_must_agree_on_a_field_s_components():
     with pytest.raises(ValueError, match="non-empty strings"):
         name_components("some_field", ("a", ""))
     assert LEVELS == "levels"
+
+
+def test_a_clamped_mindlin_nodes_tilt_is_left_out_of_the_summary(tmp_path):
+    """The Mindlin strip's clamp: its director is held, and its tilt against the deformed
+    one-sided facets (several degrees, where the next node out leans less) said the largest
+    tilt of the run in summary.json and sweep.csv; held directors are left out."""
+    case = tmp_path / "strip.toml"
+    mindlin = STRIP.replace('element = "fibrous"', 'element = "mindlin"', 1)
+    case.write_text(mindlin.replace('options = { clamped = "left" }\n', "", 1))
+    run = run_case(load_case(case), tmp_path / "out", progress=False)
+    tilt = np.asarray(run.result.field("director_tilt_deg"), dtype=float)
+    held = held_directors(load_case(case).model())
+    free = np.ones(len(tilt), dtype=bool)
+    free[held] = False
+    summary = json.loads((tmp_path / "out" / "summary.json").read_text())["director_tilt_deg"]
+    assert held.size and summary["max"] == pytest.approx(tilt[free].max(), rel=1e-12)
+    assert tilt[held].max() > tilt[free].max()  # what the summary said before
