@@ -20,9 +20,13 @@ import itertools
 import json
 import math
 import re
+import signal
 import tempfile
+import threading
 import time
 import tomllib
+from collections.abc import Iterator
+from contextlib import contextmanager
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -525,25 +529,26 @@ def sweep(
             table.write_csv(folder / "sweep.csv")
 
     try:
-        if in_process:
-            for task, arguments in enumerate(tasks):
-                result: Any
-                try:  # as map_tasks on a cluster: an error escaping the variant is its row's
-                    result = run_variant(*arguments)
-                except Exception as error:
-                    result = Failure(f"{type(error).__name__}: {error}")
-                done(task, result)
-        else:
-            with dask_client(scheduler, workers) as (client, threads):
-                map_tasks(
-                    client,
-                    run_variant,
-                    [(*task, threads) for task in tasks],
-                    f"sweep {path.stem}",
-                    progress,
-                    done,
-                )
-    except KeyboardInterrupt:  # Ctrl-C: the variants that did not end say so in sweep.csv
+        with _terminated_as_interrupt():
+            if in_process:
+                for task, arguments in enumerate(tasks):
+                    result: Any
+                    try:  # as map_tasks on a cluster: an error escaping the variant is its row's
+                        result = run_variant(*arguments)
+                    except Exception as error:
+                        result = Failure(f"{type(error).__name__}: {error}")
+                    done(task, result)
+            else:
+                with dask_client(scheduler, workers) as (client, threads):
+                    map_tasks(
+                        client,
+                        run_variant,
+                        [(*task, threads) for task in tasks],
+                        f"sweep {path.stem}",
+                        progress,
+                        done,
+                    )
+    except KeyboardInterrupt:  # Ctrl-C or SIGTERM: the variants that did not end say so
         for task, i in enumerate(where):
             if task not in ended:
                 rows[i].update(converged=False, error=INTERRUPTED)
@@ -553,3 +558,23 @@ def sweep(
     if folder is not None:
         table.write_csv(folder / "sweep.csv")
     return table
+
+
+@contextmanager
+def _terminated_as_interrupt() -> Iterator[None]:
+    """SIGTERM raised as KeyboardInterrupt while the sweep runs (in the main thread; elsewhere
+    signals cannot be set and nothing changes), so that a terminated sweep, as one stopped by
+    Ctrl-C, writes sweep.csv with its unfinished variants marked; the previous handler is
+    restored on exit."""
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+
+    def interrupt(number: int, frame: Any) -> None:
+        raise KeyboardInterrupt
+
+    previous = signal.signal(signal.SIGTERM, interrupt)
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGTERM, previous)

@@ -9,6 +9,7 @@ import json
 import os
 import re
 import shutil
+import signal
 
 import numpy as np
 import pytest
@@ -513,3 +514,32 @@ def test_a_sweep_of_a_calibration_number_on_the_fibrous_kinematics_is_refused():
     assert all(row["converged"] for row in table.rows)
     sag = table.column("displacement_right_z")  # the softer transverse shear sags more
     assert sag[0] < sag[1] < 0.0
+
+
+def test_a_sweep_terminated_by_sigterm_says_which_variants_did_not_end(monkeypatch, tmp_path):
+    """SIGTERM during the second variant (a scheduler's kill, a shell's timeout): as Ctrl-C,
+    sweep.csv holds the first variant's row and marks the others interrupted, and the
+    interrupt goes on up. Before, SIGTERM's default ended the process with sweep.csv
+    unwritten (here a stand-in handler says so instead of ending the test's process)."""
+
+    def not_handled(number, frame):
+        raise RuntimeError("SIGTERM reached the default handler")
+
+    def run(data, path, overrides, folder):
+        if overrides["part.0.material.bending"] == 20.0:
+            os.kill(os.getpid(), signal.SIGTERM)
+        return {"converged": True, "error": "", "wall_time_s": 1.0}, None
+
+    previous = signal.signal(signal.SIGTERM, not_handled)
+    try:
+        monkeypatch.setattr(sweep_module, "run_variant", run)
+        vary = {"part.0.material.bending": [10.0, 20.0, 30.0]}
+        with pytest.raises(KeyboardInterrupt):
+            sweep(cantilever(), vary, out=tmp_path, in_process=True, progress=False)
+        assert signal.getsignal(signal.SIGTERM) is not_handled  # given back
+    finally:
+        signal.signal(signal.SIGTERM, previous)
+    with open(tmp_path / "sweep.csv") as handle:
+        rows = list(csv.DictReader(handle))
+    said = [(row["converged"], row["error"].split(":")[0]) for row in rows]
+    assert said == [("True", ""), ("False", "interrupted"), ("False", "interrupted")]
