@@ -171,7 +171,7 @@ def check_interaction_capabilities(
     friction = block.friction
     if not is_friction(friction):
         raise AssertionError(f"{name}.friction is {friction!r}: a finite real >= 0 expected")
-    keeps_sets = overrides(block, "freeze", InteractionBlock)
+    keeps_sets = block.keeps_contact_sets
     if not _flag(block, "unilateral_fallback") and not keeps_sets:
         raise AssertionError(
             f"{name}.unilateral_fallback is False on a block that keeps no contact set "

@@ -337,6 +337,14 @@ class InteractionBlock(ReadOnlyState, ABC):
         """The history after a step a solver accepted at ``state``; never mutates ``history``."""
         return history
 
+    @property
+    def keeps_contact_sets(self) -> bool:
+        """Whether the block has contact sets the quasi-static solvers freeze while they
+        iterate: derived, not declared, from whether it overrides ``freeze`` (the tools'
+        contact and the ply contact's active set do). Static treats such a block's contact as
+        its sets (no curved steps, no imposed-alone rule for its friction)."""
+        return type(self).freeze is not InteractionBlock.freeze
+
     def freeze(self, state: State, history: Any = None, grow: bool = False) -> tuple[Any, int]:
         """The active-set strategy of the quasi-static solvers: (the history with the set of
         touching nodes frozen at ``state``, so that the forces are smooth while the solver

@@ -39,7 +39,7 @@ def imposes_alone(model: CompiledModel) -> bool:
 
 
 def _stuck_by_its_tangent(part: InteractionBlock) -> bool:
-    return part.friction > 0.0 and type(part).freeze is InteractionBlock.freeze
+    return part.friction > 0.0 and not part.keeps_contact_sets
 
 
 def moves_prescribed(run: StaticRun, state: State, load_factor: float) -> bool:

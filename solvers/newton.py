@@ -195,7 +195,7 @@ def newton(
         if not any(
             part.unilateral_fallback
             for part in run.model.interactions
-            if type(part).freeze is not InteractionBlock.freeze
+            if part.keeps_contact_sets
         ):
             raise
         run.info["contact_set_fallbacks"] += 1
@@ -221,11 +221,11 @@ def compression_free_ratio(ratio: float | None, model: CompiledModel) -> float:
 
 
 def keeps_contact_sets(model: CompiledModel) -> bool:
-    """Whether an interaction of ``model`` has contact sets that the iterations freeze (its
-    block overrides ``InteractionBlock.freeze``, as the tools' contact and the ply contact's
-    active set, elements/ply_active_set.py, do): without one,
+    """Whether an interaction of ``model`` has contact sets that the iterations freeze
+    (``InteractionBlock.keeps_contact_sets``: the tools' contact and the ply contact's active
+    set, elements/ply_active_set.py): without one,
     the frozen iterations of ``newton`` are those of the unilateral law itself."""
-    return any(type(part).freeze is not InteractionBlock.freeze for part in model.interactions)
+    return any(part.keeps_contact_sets for part in model.interactions)
 
 
 def _opening_on_ramp(part: InteractionBlock) -> bool:

@@ -374,9 +374,8 @@ class StaticRun:
         # The reactions of the state Newton balanced, not of the committed one: the commit
         # moves a sliding ply point's anchor to the friction limit, where rounding may count
         # it stuck and its stick potential adds a normal force (and a couple) that no iterate
-        # balanced
-        # (docs/theory.md §6.5, "Reactions of a frictional increment"). The positions and
-        # directors are the same; the fields and energies keep the committed history.
+        # balanced (docs/theory.md §6.5, "Reactions of a frictional increment"). The positions
+        # and directors are the same; the fields and energies keep the committed history.
         balanced = self.balanced
         reactions, reaction_moments = equilibrium_reactions(model, balanced, f_ext, m_ext)
         if model.user_amplitudes():
