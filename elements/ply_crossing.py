@@ -20,6 +20,7 @@ import numpy as np
 from scipy.spatial import cKDTree
 
 from elements.facet_search import closest_on_triangles
+from elements.ply_topology import open_edges
 
 __all__ = ["CANDIDATES", "crossed_nodes"]
 
@@ -83,18 +84,9 @@ def crossed_nodes(
     signed = np.einsum("ij,ij->i", offset, normals[chosen])
     # over the ply: the closest point inside a triangle, or on an inner edge or vertex (a
     # fold between two of its triangles), not on the outline (beside the ply)
-    over = ~_on_outline(closest[rows, best], corners[chosen], _outline_sides(triangles)[chosen])
+    over = ~_on_outline(closest[rows, best], corners[chosen], open_edges(triangles)[chosen])
     through = over & (side * signed < 0.0)
     return nodes[through], np.abs(signed[through])
-
-
-def _outline_sides(triangles: np.ndarray) -> np.ndarray:
-    """(m, 3) bool: whether the side of each triangle opposite its corner j is on the
-    outline (a side no other triangle shares)."""
-    sides = np.stack([triangles[:, [1, 2]], triangles[:, [2, 0]], triangles[:, [0, 1]]], axis=1)
-    keys = np.sort(sides.reshape(-1, 2), axis=1)
-    _, index, counts = np.unique(keys, axis=0, return_inverse=True, return_counts=True)
-    return (counts[index.ravel()] == 1).reshape(-1, 3)
 
 
 def _on_outline(point: np.ndarray, corners: np.ndarray, outline: np.ndarray) -> np.ndarray:
