@@ -1,5 +1,5 @@
-"""Helpers shared by the shell tests: small fibrous models, a finite-difference stiffness, a
-cylinder mapping, the tables of a clamped-strip case file."""
+"""Helpers shared by the shell tests: small fibrous models, a finite-difference stiffness and
+energy gradient, a cylinder mapping, the tables of a clamped-strip case file."""
 
 import numpy as np
 
@@ -24,6 +24,18 @@ def compiled(mesh: Mesh, material=None, **options):
     model = Model(mesh)
     model.add(FibrousShell(material or fabric(), **options))
     return model.compile()
+
+
+def position_gradient(energy, state, step=1e-6) -> np.ndarray:
+    """Central-difference dW/dx (n, 3) of ``energy(state)`` over every node's position."""
+    gradient = np.zeros((state.n_nodes, 3))
+    for node in range(state.n_nodes):
+        for j in range(3):
+            plus, minus = state.copy(), state.copy()
+            plus.positions[node, j] += step
+            minus.positions[node, j] -= step
+            gradient[node, j] = (energy(plus) - energy(minus)) / (2 * step)
+    return gradient
 
 
 def stiffness_and_mass(model, state, step=1e-7):

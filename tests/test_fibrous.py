@@ -24,7 +24,7 @@ from elements.fibrous import (
 from femcore import Mesh, Model
 from femcore.rotation import rotate_about
 from materials import BendingLaw, ElasticShell, Fabric, ShearLaw, TensionLaw
-from tests.shell_helpers import compiled, fabric, on_cylinder
+from tests.shell_helpers import compiled, fabric, on_cylinder, position_gradient
 
 RNG = np.random.default_rng(7)
 
@@ -46,14 +46,10 @@ MESH = Mesh.rectangle(40.0, 30.0, nx=4, ny=3)
 def _gradient(energy, state, step=1e-6):
     """Central-difference dW/dx (n,3) and dW/dpsi (n,3) without its drilling part."""
     n = state.n_nodes
-    force = np.zeros((n, 3))
+    force = position_gradient(energy, state, step)
     moment = np.zeros((n, 3))
     for node in range(n):
         for j in range(3):
-            plus, minus = state.copy(), state.copy()
-            plus.positions[node, j] += step
-            minus.positions[node, j] -= step
-            force[node, j] = (energy(plus) - energy(minus)) / (2 * step)
             psi = np.zeros((n, 3))
             psi[node, j] = step
             plus, minus = state.copy(), state.copy()

@@ -19,6 +19,7 @@ from elements import FibrousShell, MindlinShell
 from femcore import Mesh, Model
 from materials import BendingLaw, Fabric, ShearLaw
 from solvers import Static
+from tests.shell_helpers import position_gradient
 from validation.specimens import mindlin_equivalent
 
 G = 9810.0  # mm/s^2
@@ -190,17 +191,7 @@ def test_bending_forces_and_tangent_at_supports_are_the_energy_derivatives():
     state.positions = state.positions + rng.normal(scale=0.05, size=state.positions.shape)
 
     force = block.internal_force_parts(state)["bending"][0]
-    step = 1e-6
-    gradient = np.zeros_like(force)
-    for node in range(mesh.n_nodes):
-        for j in range(3):
-            plus, minus = state.copy(), state.copy()
-            plus.positions[node, j] += step
-            minus.positions[node, j] -= step
-            gradient[node, j] = (
-                block.strain_energy_parts(plus)["bending"]
-                - block.strain_energy_parts(minus)["bending"]
-            ) / (2 * step)
+    gradient = position_gradient(lambda s: block.strain_energy_parts(s)["bending"], state)
     # On the free nodes: the held ones never move, and a clamped side's fold is varied
     # (docs/theory.md §4.5) as a rotation of its element about the side, which is the
     # whole motion while the side's two nodes stay put.
