@@ -53,7 +53,10 @@ def director_tilt(
         0 where the director is the cell's normal; theta / 2 on both sides of a symmetric fold
         of theta with area-weighted nodal directors.
     """
-    cosine = _corner_cosines(points, connectivity, directors)
+    return _degrees(_corner_cosines(points, connectivity, directors))
+
+
+def _degrees(cosine: np.ndarray) -> np.ndarray:
     return np.degrees(np.arccos(np.clip(cosine, -1.0, 1.0)))
 
 
@@ -83,9 +86,10 @@ def warn_folds(
         The largest tilt left silent (default ``FOLD_TILT_DEG``).
     """
     # the usual case, no corner past the limit, costs one pass over the cells at bind
-    if not (_corner_cosines(points, connectivity, directors) < np.cos(np.radians(limit))).any():
+    cosine = _corner_cosines(points, connectivity, directors)
+    if not (cosine < np.cos(np.radians(limit))).any():
         return
-    tilt = director_tilt(points, connectivity, directors)
+    tilt = _degrees(cosine)  # director_tilt's, from the cosines already taken
     node_tilt = np.zeros(len(points))
     np.maximum.at(node_tilt, connectivity.ravel(), tilt.ravel())
     folded = np.flatnonzero(node_tilt > limit)
@@ -135,7 +139,7 @@ def fold_angle(points: np.ndarray, connectivity: np.ndarray) -> np.ndarray:
     pairs = topology.edge_triangles
     inner = pairs[:, 1] >= 0
     cosine = np.sum(normal[pairs[inner, 0]] * normal[pairs[inner, 1]], axis=1)
-    turn = np.degrees(np.arccos(np.clip(cosine, -1.0, 1.0)))
+    turn = _degrees(cosine)
     node_turn = np.zeros(len(points))
     for end in (0, 1):
         np.maximum.at(node_turn, topology.edges[inner, end], turn)
