@@ -64,10 +64,14 @@ def _corner_cosines(
     points: np.ndarray, connectivity: np.ndarray, directors: np.ndarray
 ) -> np.ndarray:
     """V_k . n_e (m, 3) of each corner's director and its cell's unit normal."""
+    return np.einsum("mkj,mj->mk", directors[connectivity], _unit_normals(points, connectivity))
+
+
+def _unit_normals(points: np.ndarray, connectivity: np.ndarray) -> np.ndarray:
+    """(m, 3) each cell's unit normal."""
     corners = points[connectivity]
     normal = np.cross(corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0])
-    normal /= np.linalg.norm(normal, axis=1, keepdims=True)
-    return np.einsum("mkj,mj->mk", directors[connectivity], normal)
+    return normal / np.linalg.norm(normal, axis=1, keepdims=True)
 
 
 def warn_folds(
@@ -133,9 +137,7 @@ def fold_angle(points: np.ndarray, connectivity: np.ndarray) -> np.ndarray:
         0 at nodes of a flat part (and at nodes outside ``connectivity``).
     """
     topology = build_topology(connectivity)
-    corners = points[connectivity]
-    normal = np.cross(corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0])
-    normal /= np.linalg.norm(normal, axis=1, keepdims=True)
+    normal = _unit_normals(points, connectivity)
     pairs = topology.edge_triangles
     inner = pairs[:, 1] >= 0
     cosine = np.sum(normal[pairs[inner, 0]] * normal[pairs[inner, 1]], axis=1)
