@@ -20,7 +20,7 @@ from typing import Any
 import numpy as np
 
 from femcore.assembly import CellTangent, SparseTangent
-from femcore.element import ElementBlock
+from femcore.element import ElementBlock, are_node_pairs
 from femcore.interaction import OPENING_LAWS, FacetRecord, InteractionBlock, is_friction
 from femcore.state import State
 
@@ -130,12 +130,7 @@ def check_element_capabilities(
         )
     edges = block.fibre_edges()
     nodes = np.unique(block.connectivity)
-    if (
-        not isinstance(edges, np.ndarray)
-        or edges.ndim != 2
-        or edges.shape[1] != 2
-        or edges.dtype.kind not in "iu"
-    ):
+    if not are_node_pairs(edges):
         raise AssertionError(f"{name}.fibre_edges() gave {edges!r}: a (k, 2) int array expected")
     if not np.isin(edges, nodes).all() or (edges[:, 0] == edges[:, 1]).any():
         raise AssertionError(

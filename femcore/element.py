@@ -46,7 +46,25 @@ from femcore.mesh import Mesh
 from femcore.read_only_state import ReadOnlyState
 from femcore.state import State
 
-__all__ = ["CellTangent", "ElementBlock", "ElementType", "SparseTangent", "TangentPart"]
+__all__ = [
+    "CellTangent",
+    "ElementBlock",
+    "ElementType",
+    "SparseTangent",
+    "TangentPart",
+    "are_node_pairs",
+]
+
+
+def are_node_pairs(edges: object) -> bool:
+    """Whether ``edges`` is what ``ElementBlock.fibre_edges`` gives: a (k, 2) integer array of
+    node ids (the static solver's fibre projection and the element kit both ask)."""
+    return (
+        isinstance(edges, np.ndarray)
+        and edges.ndim == 2
+        and edges.shape[1] == 2
+        and edges.dtype.kind in "iu"
+    )
 
 
 class ElementType(ABC):

@@ -36,6 +36,7 @@ import numpy as np
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
+from femcore.element import are_node_pairs
 from femcore.model import CompiledModel
 
 if TYPE_CHECKING:
@@ -60,13 +61,7 @@ def fibre_edges(model: CompiledModel) -> np.ndarray:
             continue
         # a user block's edges, checked where they are first read: a bare IndexError deep in
         # the projection, or a third column silently dropped, otherwise
-        if (
-            edges.ndim != 2
-            or edges.shape[1] != 2
-            or not np.issubdtype(edges.dtype, np.integer)
-            or edges.min() < 0
-            or edges.max() >= model.n_nodes
-        ):
+        if not are_node_pairs(edges) or edges.min() < 0 or edges.max() >= model.n_nodes:
             raise ValueError(
                 f"{type(block).__name__}.fibre_edges() gave an array of shape {edges.shape} "
                 f"and type {edges.dtype}: expected (k, 2) int node ids in 0..{model.n_nodes - 1}"
