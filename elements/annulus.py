@@ -1,15 +1,27 @@
-"""A flat rigid ring (``RigidAnnulus``): the face of a blank holder that rests on a die's flat
-flange and leaves the die's opening and its entry round free (docs/theory.md §9.5).
+"""A flat rigid ring (``RigidAnnulus``): the face of a die's flange or of a blank holder, with
+a bore that leaves the die's opening and its entry free (docs/theory.md §9.5).
 
 Why not a plane: a plane pressed on the flange also covers the die's opening, and a blank
-drawn over the die's entry round then cannot rise above the flange's level there, though no
-tool is there to hold it; the real holder is a ring whose bore is the flange's inner edge.
+drawn over the die's entry then cannot rise above the flange's level there, though no tool is
+there to hold it; the real holder is a ring whose bore is the flange's inner edge.
 
 The ring lies in the plane through ``point`` with unit ``normal`` (towards the body), about
 the axis along the normal through ``point``, from ``inner`` (mm) out (to infinity: the
-flange's outer edge is past the blank). Its inner edge is sharp: the distance of a point over
-the bore is its distance to the edge's circle, so it is continuous across the edge and a node
-that leaves the face for the bore is released smoothly.
+flange's outer edge is past the blank). It is the face of a solid: the half-space behind the
+face less the bore, a cylinder of radius ``inner`` about the axis. So its distance is that
+solid's signed distance, continuous everywhere:
+
+* in front of the face (radius >= inner): the plane's distance;
+* in front of the bore: the distance to the inner edge's circle (the edge is sharp), so a node
+  that leaves the face for the bore is released smoothly;
+* behind the face, in the bore: the distance to the bore's wall, inner - radius. A blank drawn
+  through a die's opening goes behind the flange's plane; the die's wall is there, and a node
+  that reaches the edge radius behind the plane meets that wall, not the far side of the
+  flange (which would throw it |height| + h/2 deep);
+* inside the solid: minus the distance to the nearer of the face and the wall.
+
+A point on the axis has no radial direction; any direction across the axis gives its distance
+(the edge circle is equally far all round).
 """
 
 from __future__ import annotations
@@ -28,8 +40,9 @@ __all__ = ["RigidAnnulus"]
 
 class RigidAnnulus(RigidTool):
     """The flat ring through ``point`` with unit ``normal`` (towards the body), its face from
-    radius ``inner`` (mm, > 0) about the normal through ``point`` out; the driving options of
-    ``RigidTool`` (a holder: ``free="z"``, a ``force`` and a ``mass``)."""
+    radius ``inner`` (mm, > 0) about the normal through ``point`` out, the face of the
+    solid behind it less its bore (a die's flange with its wall, or a holder); the driving
+    options of ``RigidTool`` (a holder: ``free="z"``, a ``force`` and a ``mass``)."""
 
     def __init__(
         self,
@@ -48,36 +61,83 @@ class RigidAnnulus(RigidTool):
         self.inner = check_positive(inner, "RigidAnnulus inner radius", "mm")
 
     def _parts(self, x: np.ndarray, load_factor: float):
-        """(height along the normal (k,), radial vector in the ring's plane (k, 3), its length
-        (k,)), mm, of the points x (k, 3) from the ring's centre."""
+        """(height along the normal (k,), unit radial direction in the ring's plane (k, 3),
+        radius (k,)), mm, of the points x (k, 3) from the ring's centre; on the axis the radial
+        direction is a fixed unit vector across the normal."""
         relative = x - (self.point + self.offset(load_factor))
         height = relative @ self.normal
         radial = relative - height[:, None] * self.normal
-        return height, radial, np.linalg.norm(radial, axis=1)
+        length = np.linalg.norm(radial, axis=1)
+        outward = np.where(
+            (length > 0.0)[:, None],
+            radial / np.where(length > 0.0, length, 1.0)[:, None],
+            self.radial_on_axis,
+        )
+        return height, outward, length
+
+    @property
+    def radial_on_axis(self) -> np.ndarray:
+        """(3,) a unit vector across the normal: the radial direction taken on the axis."""
+        trial = np.eye(3)[int(np.argmin(np.abs(self.normal)))]
+        across = trial - (trial @ self.normal) * self.normal
+        return across / np.linalg.norm(across)
+
+    def _regions(self, height: np.ndarray, length: np.ndarray):
+        """Boolean masks (k,) of the points whose nearest part of the ring's solid is the bore's
+        edge circle (in front of the bore) and the bore's wall (behind the face, nearer the
+        wall than the face when inside the solid)."""
+        in_bore = length < self.inner
+        at_edge = in_bore & (height >= 0.0)
+        at_wall = (in_bore & (height < 0.0)) | (
+            ~in_bore & (height < 0.0) & (length - self.inner < -height)
+        )
+        return at_edge, at_wall
 
     def distance(self, x: np.ndarray, load_factor: float = 0.0):
-        """(d (k,), n (k, 3)): over the face (radius >= inner) the plane's signed distance and
-        normal; over the bore the distance to the inner edge's circle, along the line from
-        it (never negative: the bore is open)."""
-        height, radial, length = self._parts(x, load_factor)
-        outward = radial / np.where(length > 0.0, length, 1.0)[:, None]
+        """(d (k,), n (k, 3)): the signed distance of the points x (k, 3) to the ring's solid
+        (mm; negative inside it) and the unit normal of its nearest part, towards the point:
+        the face's plane, the inner edge's circle, or the bore's wall (the module's
+        docstring)."""
+        height, outward, length = self._parts(x, load_factor)
+        at_edge, at_wall = self._regions(height, length)
         # From the edge's closest point to x: (length - inner) outward + height normal.
         to_edge = (length - self.inner)[:, None] * outward + height[:, None] * self.normal
         edge_distance = np.linalg.norm(to_edge, axis=1)
-        over_face = length >= self.inner
-        d = np.where(over_face, height, edge_distance)
         edge_normal = to_edge / np.where(edge_distance > 0.0, edge_distance, 1.0)[:, None]
-        n = np.where(over_face[:, None], self.normal, edge_normal)
+        d = np.where(at_edge, edge_distance, np.where(at_wall, self.inner - length, height))
+        n = np.where(
+            at_edge[:, None],
+            edge_normal,
+            np.where(at_wall[:, None], -outward, self.normal),
+        )
         return d, n
 
     def projector_scale(self, x: np.ndarray, load_factor: float = 0.0) -> np.ndarray:
-        """0 over the face (a plane); over the bore 1 / the distance to the edge, the edge
-        taken as a point (the Newton tangent's curvature term only: the circle's own
+        """0 on the face (a plane); in front of the bore 1 / the distance to the edge, the
+        edge taken as a point (the Newton tangent's curvature term only: the circle's own
         direction is left in it, which slows Newton's convergence near the edge, not its
-        result)."""
+        result); at the bore's wall -1 / radius (a concave cylinder seen from its axis side,
+        ``normal_gradient`` takes its axis out)."""
         height, _, length = self._parts(x, load_factor)
+        at_edge, at_wall = self._regions(height, length)
         distance = np.hypot(length - self.inner, height)
-        return np.where(length >= self.inner, 0.0, 1.0 / np.maximum(distance, 1e-300))
+        return np.where(
+            at_edge,
+            1.0 / np.maximum(distance, 1e-300),
+            np.where(at_wall, -1.0 / np.maximum(length, 1e-300), 0.0),
+        )
+
+    def normal_gradient(
+        self, x: np.ndarray, normal: np.ndarray, load_factor: float = 0.0
+    ) -> np.ndarray:
+        """(k, 3, 3) dn/dx at the points x (k, 3) with their normals (k, 3): c (I - n n^T) of
+        ``projector_scale``, less c a a^T at the bore's wall (a the ring's axis, along which
+        the wall's normal does not turn)."""
+        height, _, length = self._parts(x, load_factor)
+        _, at_wall = self._regions(height, length)
+        across = np.eye(3) - normal[:, :, None] * normal[:, None, :]
+        across = across - at_wall[:, None, None] * np.outer(self.normal, self.normal)
+        return self.projector_scale(x, load_factor)[:, None, None] * across
 
     def side_hint(self) -> str:
         return f"normal = {tuple(float(v) for v in self.normal)} must point towards the body"

@@ -85,11 +85,14 @@ def _plane_forces(x, origin, normal, offset, stiffness, out):
         out[i, 2] = kp * normal[2]
 
 
-def _annulus_forces(x, origin, normal, inner, offset, stiffness, out):
+def _annulus_forces(x, origin, normal, across, inner, offset, stiffness, out):
     """Each node's contact force (s, 3), N, from the flat ring through ``origin`` (3,) with
-    unit ``normal`` (3,) towards the body and its bore of radius ``inner`` (mm): over the face
-    the plane's, over the bore the inner edge's (``RigidAnnulus.distance``); x, offset,
-    stiffness and out as ``_sphere_forces``."""
+    unit ``normal`` (3,) towards the body and its bore of radius ``inner`` (mm), the signed
+    distance and normal of ``RigidAnnulus.distance`` in its order of operations: in front of
+    the face the plane's, in front of the bore the inner edge's, at the bore's wall (behind the
+    face, or inside the solid nearer the wall than the face) inner - radius along the radius
+    inwards; ``across`` (3,) the radial direction taken on the axis; x, offset, stiffness and
+    out as ``_sphere_forces``."""
     for i in prange(x.shape[0]):
         r0 = x[i, 0] - origin[0]
         r1 = x[i, 1] - origin[1]
@@ -99,18 +102,25 @@ def _annulus_forces(x, origin, normal, inner, offset, stiffness, out):
         a1 = r1 - height * normal[1]
         a2 = r2 - height * normal[2]
         length = np.sqrt(a0 * a0 + a1 * a1 + a2 * a2)
-        if length >= inner:
-            d = height
-            n0, n1, n2 = normal[0], normal[1], normal[2]
+        if length > 0.0:
+            o0, o1, o2 = a0 / length, a1 / length, a2 / length
         else:
-            scale = length if length > 0.0 else 1.0
-            across = length - inner
-            e0 = across * (a0 / scale) + height * normal[0]
-            e1 = across * (a1 / scale) + height * normal[1]
-            e2 = across * (a2 / scale) + height * normal[2]
+            o0, o1, o2 = across[0], across[1], across[2]
+        in_bore = length < inner
+        if in_bore and height >= 0.0:  # in front of the bore: the edge's circle
+            span = length - inner
+            e0 = span * o0 + height * normal[0]
+            e1 = span * o1 + height * normal[1]
+            e2 = span * o2 + height * normal[2]
             d = np.sqrt(e0 * e0 + e1 * e1 + e2 * e2)
             unit = d if d > 0.0 else 1.0
             n0, n1, n2 = e0 / unit, e1 / unit, e2 / unit
+        elif height < 0.0 and (in_bore or length - inner < -height):  # the bore's wall
+            d = inner - length
+            n0, n1, n2 = -o0, -o1, -o2
+        else:  # the face's plane
+            d = height
+            n0, n1, n2 = normal[0], normal[1], normal[2]
         kp = stiffness[i] * max(offset[i] - d, 0.0)
         out[i, 0] = kp * n0
         out[i, 1] = kp * n1
@@ -210,7 +220,16 @@ def contact_forces(block: ContactBlock, x: np.ndarray, load_factor: float) -> np
         sphere_forces(x, origin, tool.radius, tool.sign, block.offset, block.stiffness, forces)
     elif isinstance(tool, RigidAnnulus):
         origin = tool.point + tool.offset(load_factor)
-        annulus_forces(x, origin, tool.normal, tool.inner, block.offset, block.stiffness, forces)
+        annulus_forces(
+            x,
+            origin,
+            tool.normal,
+            tool.radial_on_axis,
+            tool.inner,
+            block.offset,
+            block.stiffness,
+            forces,
+        )
     else:
         assert isinstance(tool, RigidPlane)
         origin = tool.point + tool.offset(load_factor)
