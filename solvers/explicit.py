@@ -87,6 +87,8 @@ BALANCE_TOLERANCE = 0.05
 # The most mass that mass scaling may add, in times the mass of the model's elements (the option
 # max_added_mass): beyond it the inertia, not the model, decides the answer.
 MAX_ADDED_MASS = 10.0
+#: The fraction of the stable step the solver takes (``safety``'s default).
+SAFETY = 0.9
 GROWTH_LIMIT = 10.0
 #: Kinetic energy below this share of M (h / dt)^2 (the whole mass moving an element length a
 #: step) is round-off, not a blow-up: forces of order 1e-16 (a contact touching at zero gap)
@@ -103,14 +105,17 @@ class CentralDifference(StableStepRule):
     duration : s, the length of the step; loads reach their amplitude at its end.
     dt : s, a fixed time step, or None for safety x the stable step (re-evaluated as the
         geometry changes).
-    safety : factor on the stable step (0 < safety <= 1).
+    safety : factor on the stable step (0 < safety <= 1; None: SAFETY = 0.9), and on mass
+        scaling's target; with a fixed ``dt`` and no ``mass_scaling_dt`` nothing uses it, and
+        giving it is refused.
     damping : c of the mass-proportional damping C = c M, 1/s.
     mass_scaling_dt : s, a target step: cells whose stable step is smaller get their density
         scaled by (target / dt_cell)^2 so that the step is the target; the added mass is
         reported in ``result.info``.
     max_added_mass : the most mass scaling may add, in times the elements' mass (the tools'
-        masses aside; default MAX_ADDED_MASS = 10); more is refused before the run starts
-        (ValueError naming it).
+        masses aside; None: MAX_ADDED_MASS = 10); more is refused before the run starts
+        (ValueError naming it). Given without ``mass_scaling_dt`` it is refused (nothing adds
+        mass).
     max_steps : the most steps of the run; a duration / dt above it at the first step is
         refused before the run starts, and a run whose step shrinks past it stops there.
     output_interval : s between frames (default duration / 20).
@@ -126,7 +131,8 @@ class CentralDifference(StableStepRule):
         ``tool<k>_force_x/y/z`` (N), ``tool<k>_displacement_x/y/z`` (mm) and
         ``displacement_node<i>_x/y/z`` (mm) of
         ``history_nodes``.
-    history_nodes : node indices whose displacements the history records.
+    history_nodes : node indices (>= 0, of the model's nodes: checked as the run starts)
+        whose displacements the history records.
     frame_summary : callable Frame -> dict, optional
         Called on every output frame (the first included, streamed or not); the dicts are
         ``result.info["frame_summaries"]``, one per frame of the series, also after a resume
@@ -163,7 +169,7 @@ class CentralDifference(StableStepRule):
         self,
         duration: float,
         dt: float | None = None,
-        safety: float = 0.9,
+        safety: float | None = None,
         damping: float = 0.0,
         mass_scaling_dt: float | None = None,
         output_interval: float | None = None,
@@ -173,7 +179,7 @@ class CentralDifference(StableStepRule):
         history: str | os.PathLike[str] | None = None,
         history_nodes=(),
         frame_summary: Callable[[Frame], dict] | None = None,
-        max_added_mass: float = MAX_ADDED_MASS,
+        max_added_mass: float | None = None,
         kinetic_bound: float | str | None = "auto",
         process_duration: float | None = None,
     ):
@@ -182,10 +188,27 @@ class CentralDifference(StableStepRule):
             raise ValueError("duration must be a positive number of seconds")
         self.duration: float = checked
         self.dt = check_positive_or_none(dt, "dt", "s")
-        self.safety = check_fraction(safety, "safety")
         self.damping = check_non_negative(damping, "damping", "1/s, of C = c M")
         self.mass_scaling_dt = check_positive_or_none(mass_scaling_dt, "mass_scaling_dt", "s")
-        self.max_added_mass = check_non_negative(max_added_mass, "max_added_mass", "a ratio")
+        # options that only act through another: given without it, they would be ignored
+        if safety is not None and self.dt is not None and self.mass_scaling_dt is None:
+            raise ValueError(
+                f"safety = {safety!r} scales the solver's own stable step, and dt = {dt!r} "
+                "fixes the step: leave one of them out (safety also scales mass scaling's "
+                "target, mass_scaling_dt)"
+            )
+        if max_added_mass is not None and self.mass_scaling_dt is None:
+            raise ValueError(
+                f"max_added_mass = {max_added_mass!r} bounds the mass that mass scaling adds, "
+                "and no mass_scaling_dt asks for mass scaling: give mass_scaling_dt, or leave "
+                "max_added_mass out"
+            )
+        self.safety = check_fraction(SAFETY if safety is None else safety, "safety")
+        self.max_added_mass = check_non_negative(
+            MAX_ADDED_MASS if max_added_mass is None else max_added_mass,
+            "max_added_mass",
+            "a ratio",
+        )
         self.output_interval = check_positive_or_none(output_interval, "output_interval", "s")
         self.progress = check_progress(progress)
         self.max_steps = check_integer(max_steps, "max_steps")
@@ -194,6 +217,11 @@ class CentralDifference(StableStepRule):
         nodes = np.asarray(history_nodes)
         if nodes.size and (nodes.ndim != 1 or not np.issubdtype(nodes.dtype, np.integer)):
             raise ValueError(f"history_nodes must be node indices, got {history_nodes!r}")
+        if nodes.size and nodes.min() < 0:
+            raise ValueError(
+                f"history_nodes must be node indices >= 0, got {int(nodes.min())} (a negative "
+                "index would record another node than the one named)"
+            )
         self.history_nodes = nodes.astype(np.int64).reshape(-1)
         if frame_summary is not None and not callable(frame_summary):
             raise ValueError(
@@ -267,6 +295,7 @@ class CentralDifference(StableStepRule):
         """
         compiled = compiled_model(model, "CentralDifference")
         checkpoint_interval = check_non_negative(checkpoint_interval, "checkpoint_interval", "s")
+        self._check_model(compiled)
         saved_at = checkpoint_path(checkpoint)
         check_outputs(compiled.mesh, self.output, self.history, saved_at)
         started = time.perf_counter()
@@ -565,6 +594,29 @@ class CentralDifference(StableStepRule):
                 f"than max_steps = {self.max_steps}: raise dt (or mass_scaling_dt), shorten "
                 "the duration, or raise max_steps",
             )
+
+    def _check_model(self, compiled: CompiledModel) -> None:
+        """ValueError for what this model cannot be run with whatever the step: a history
+        node it does not have, or a displacement prescribed already at t = 0 (amplitude
+        "step", or a(0) != 0): in dynamics the node would jump there in one step, an infinite
+        velocity (the energy records then do not close and the stable step collapses)."""
+        if self.history_nodes.size and self.history_nodes.max() >= compiled.n_nodes:
+            raise ValueError(
+                f"history_nodes has node {int(self.history_nodes.max())}, and the model's nodes "
+                f"are 0 to {compiled.n_nodes - 1}"
+            )
+        if compiled.has_prescribed:
+            at_start = compiled.prescribed_displacement(0.0)
+            jumping = np.flatnonzero(np.any(at_start != 0.0, axis=1))
+            if jumping.size:
+                node = int(jumping[0])
+                raise ValueError(
+                    f"{jumping.size} node(s) have a displacement prescribed at t = 0 (node {node}: "
+                    f"{tuple(float(v) for v in at_start[node])} mm): in explicit dynamics a "
+                    'prescribed displacement must start from zero (amplitude "smooth" or '
+                    '"linear", or a(0) = 0); "step" jumps in one time step, an infinite '
+                    'velocity. A suddenly applied load is a force with amplitude "step"'
+                )
 
     def _outputs(self, compiled: CompiledModel, run: _Run):
         """The frame stream and the history writer of this run (None when not asked for),

@@ -76,6 +76,10 @@ DAMPING_KINDS = ("kinetic", "viscous")
 MASS_KINDS = ("gershgorin", "lumped")
 
 
+#: Iterations between re-estimates of the fictitious masses (``refresh``'s default).
+REFRESH = 100
+
+
 class DynamicRelaxation:
     """Quasi-static solver by dynamic relaxation.
 
@@ -107,8 +111,10 @@ class DynamicRelaxation:
     safety : float in (0, 1]
         Fraction of the stability limit: of the stable step ("lumped"), or of the Gershgorin
         frequency bound 2/dt ("gershgorin").
-    refresh : int
-        Iterations between re-estimates of the fictitious masses ("gershgorin" only).
+    refresh : int or None
+        Iterations between re-estimates of the fictitious masses ("gershgorin" only: with
+        "lumped" masses there is nothing to re-estimate, and giving it is refused); None:
+        REFRESH = 100.
     stall_iterations : int or None
         Iterations the residual ratio may stay above 0.5 in one increment, while the model
         moves farther than its own size, before the run stops as a mechanism (ConvergenceError
@@ -138,7 +144,7 @@ class DynamicRelaxation:
         damping: str = "kinetic",
         masses: str = "gershgorin",
         safety: float = 0.9,
-        refresh: int = 100,
+        refresh: int | None = None,
         stall_iterations: int | None = None,
         progress: bool | None = None,
         plateau_iterations: int | None = 20_000,
@@ -153,7 +159,13 @@ class DynamicRelaxation:
             raise ValueError(f"unknown masses {masses!r}: expected one of {MASS_KINDS}")
         self.masses = masses
         self.safety = check_fraction(safety, "safety")
-        self.refresh = check_integer(refresh, "refresh")
+        if refresh is not None and masses == "lumped":
+            raise ValueError(
+                f"refresh = {refresh!r} re-estimates the fictitious masses, and masses = "
+                '"lumped" has none (the physical masses do not change): leave refresh out, '
+                'or use masses = "gershgorin"'
+            )
+        self.refresh = check_integer(REFRESH if refresh is None else refresh, "refresh")
         if stall_iterations is None:
             stall_iterations = max(10_000, self.max_iterations // 10)
         self.stall_iterations = check_integer(stall_iterations, "stall_iterations")

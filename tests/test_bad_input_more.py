@@ -335,3 +335,56 @@ def test_the_errors_that_name_an_entry_or_a_setting_cross_a_process_pool_as_rais
         back = pickle.loads(pickle.dumps(error))
         assert type(back) is type(error) and str(back) == str(error)
         assert vars(back) == vars(error)
+
+
+# ------------------------------------------------------------ options that act through another
+@pytest.mark.parametrize(
+    "make, named",
+    [
+        (lambda: CentralDifference(duration=1.0, dt=1e-3, safety=0.5), "safety = 0.5"),
+        (lambda: CentralDifference(duration=1.0, max_added_mass=3.0), "max_added_mass = 3.0"),
+        (lambda: DynamicRelaxation(masses="lumped", refresh=5), "refresh = 5"),
+    ],
+    ids=["safety-with-dt", "max_added_mass-without-scaling", "refresh-with-lumped-masses"],
+)
+def test_an_option_that_nothing_would_use_is_refused_naming_what_it_needs(make, named):
+    # Accepted, each was ignored: a fixed dt takes no safety, nothing adds mass without
+    # mass_scaling_dt, and lumped masses are never re-estimated.
+    with pytest.raises(ValueError, match=named):
+        make()
+
+
+def test_options_that_act_together_are_taken():
+    # safety with a fixed dt still scales mass scaling's target (solvers/explicit_step_size.py)
+    solver = CentralDifference(duration=1.0, dt=1e-3, safety=0.5, mass_scaling_dt=1e-4)
+    assert solver.safety == 0.5
+    assert CentralDifference(duration=1.0).safety == 0.9
+    assert DynamicRelaxation(masses="gershgorin", refresh=5).refresh == 5
+    assert DynamicRelaxation(masses="lumped").refresh == 100
+
+
+@pytest.mark.parametrize("nodes, named", [([-1], ">= 0, got -1"), ([99], "has node 99")])
+def test_a_history_node_the_model_does_not_have_is_refused_before_the_run(tmp_path, nodes, named):
+    # -1 was recorded as the last node under the name "node-1"; 99 on a 5-node cable was an
+    # IndexError from the history writer, after the run had started.
+    with pytest.raises(ValueError, match=named):
+        CentralDifference(
+            duration=1e-5, history=tmp_path / "h.csv", history_nodes=nodes, progress=False
+        ).solve(cable())
+
+
+def test_a_displacement_prescribed_at_the_start_of_an_explicit_run_is_refused():
+    # "step" puts the whole displacement at t = 0: the node jumps in one step, an infinite
+    # velocity. Measured on a 10-cell Mindlin cantilever with its tip lifted 0.1 mm so: the
+    # run completed with KE + U = 327 N mm against an external work of 2359 (the records did
+    # not close); at 1 mm the step fell 40-fold and the run diverged on its last step.
+    model = cable()
+    model.displace("end", uy=0.1, amplitude="step")
+    with pytest.raises(ValueError, match=r"1 node\(s\) have a displacement prescribed at t = 0"):
+        CentralDifference(duration=1e-5, progress=False).solve(model)
+    # the same displacement ramped from zero runs; and Static and relaxation ramp any
+    # amplitude with the load factor, a step included
+    ramped = cable()
+    ramped.displace("end", ux=0.01, amplitude="smooth")
+    CentralDifference(duration=1e-4, progress=False, kinetic_bound=None).solve(ramped)
+    DynamicRelaxation(progress=False).solve(model)
