@@ -319,6 +319,51 @@ einsum (solvers/dynamics.py, about 1-2 ms), numpy's reductions and allocations, 
 around some forty compiled calls; the rotation update (solvers/turning.py) is 0.02 µs of
 compiled work.
 
+Where the fibrous force's time goes, and what LLVM made of its loops, on main 186b5d5 (the
+2-core Intel Xeon, AVX-512, one thread, CPU, other jobs on the machine). This script, ``--sizes
+10000,100000 --repeats 3`` at a load of 4.5: steady step 0.405 at 10k, 0.462 at 100k (3.6 and
+3.1 x the reference pass, 0.113 and 0.148 at that load against 0.094-0.098 quiet), force 0.333
+/ 0.376, force+energy 0.349 / 0.424, energy 0.230 / 0.273, step less force 0.038; two threads
+(``--threads 2``, load 4.2-5.1, the other core busy) 0.994 / 0.940 µs wall, 0.595 / 0.457 CPU:
+slower than one. The force's passes (benchmarks/fibrous_shell.py ``force_phases``, 100k, load
+3.4; force 0.331): normals 0.020, normal sums 0.014, frames 0.007, sides' folds 0.040, the
+cells' pass 0.161, dW/dS sums 0.013, pulls 0.050, nodal sums 0.019. Inside the cells' pass
+(0.151 with the linear laws' loop below, load 3.5; a copy of the pass with one part left out at
+a time): the lanes (levels, laws, loads, moments) 0.070, the bending 0.026, the copies of the
+lanes' results into the (m, 3, 3) outputs 0.01-0.02, the gathers into the scratch rows about
+0.03. The lanes run alone (a compiled loop calling them chunk after chunk on one chunk's rows,
+100k cells' worth, main): the three levels' strains 0.046, their laws 0.030, loads 0.011,
+moments 0.009. What LLVM did (benchmarks/vector_width.py: numba's ``inspect_asm``, and perf
+with a map of numba's builds): the lanes run 4 doubles wide in ymm registers, not 8: LLVM names
+this host rocketlake, whose tuning prefers 256-bit vectors; with the preference lifted
+(``NUMBA_CPU_FEATURES``, ``-prefer-256-bit``) they run in zmm and the force is 1-12 % slower.
+The pulls' pass and the sides' folds are scalar code. Of the cells' pass's perf samples, 33 %
+fall on packed ymm instructions, 38 % on scalar double arithmetic, the rest on integer work,
+moves and branches (its hottest scalar stretch, a loop over three sides, stores to the stack).
+
+Three linear laws in one loop across the chunk (level_lanes.py ``linear_lanes``: the presets'
+tension and shear; the laws' eleven loops and their rows' loads and stores were the lanes'
+0.030, the one loop is 0.005 run alone). Paired against main 186b5d5 (benchmarks/
+kernel_pairs.py, 100k, 10 rounds, load 3.8-4.3): force 0.982 (quartiles 0.974-0.986; best 0.321
+-> 0.315 µs a cell), force+energy 0.971 (0.964-0.974), energy 0.958 (0.952-0.961), the same
+bits (on a forming state the force is unchanged as well: the hemisphere's ply,
+validation/cases/hemisphere_forming.py, has a K5 shear polynomial, whose laws take ``law_row``
+as before). This script, main (exported) and this tree in turns, two rounds each, one thread,
+load 2.8-3.8, µs of CPU an element-step (main -> this tree): 100k steady step 0.401 / 0.410 ->
+0.394 / 0.377 (2.9-3.1 -> 2.7-2.9 x the reference pass, 0.13-0.14 at that load), force 0.345 /
+0.322 -> 0.324 / 0.338; 10k steady step 0.377 / 0.390 -> 0.359 / 0.369, force 0.274 / 0.331 ->
+0.316 / 0.303: the runs' noise is larger than the change, the paired ratio is its measure. Two
+threads after (load 2.5-3.0): 10k 1.112 µs wall (0.517 CPU), 100k 0.287 wall (0.381 CPU). The
+issue's 0.35 µs a step on one core is not reached in these runs (0.38-0.41 CPU at a load of 3,
+where the reference pass ran 1.4 x its quiet time; scaled by that, about 0.28 quiet: an
+estimate, not a measurement; main 34bcb6a measured 0.313 nearly quiet, above). What is left, by
+the split above: the scalar work around the lanes in the cells' pass (the gathers, the bending,
+the copies: about half of its 0.15), the scalar pulls (0.05) and folds (0.04), and the nodal
+sums (0.05 over three node passes); the lanes' 0.07 for three levels is what 4-wide vectors
+give with the branch-free log and arcsine. The bending and the pulls as lanes were tried before
+and were slower (above); their gathers and the sides' indirection are what such loops would
+have to pay for.
+
 Threads: ``--threads 1`` (default) or any count numba may use; the machine's load average is
 printed with the figures. On several threads every loop runs on all of them whatever the load
 (``femcore.jit.FOLLOW_LOAD`` off), the loops first called on a sheet above ``SMALL_LOOP``

@@ -245,9 +245,10 @@ def force_phases(triangles: int, repeats: int = 10, compiled=None, clock=time.pr
             block.reference_area, block.reference_length1, block.reference_length2,
             block.shear_sign, block.reference_shear, block.xi_is_warp, *block.packed_laws,
             block.thickness_variation, side_fold, side_scale, block.interior_side,
-            block.clamped_side, block.reference_normal, block.reference_fold,
-            block.reference_coefficients, block.reference_curvature_coefficients, True,
-            False, force, moment, d_sums, own, energy)  # fmt: skip
+            block.clamped_side, block.reference_normal, block.mirror_normal,
+            block.reference_fold, block.reference_coefficients,
+            block.reference_curvature_coefficients, True, False, force, moment, d_sums, own,
+            energy)  # fmt: skip
         pull = timed("2 nodes: dW/dS sums", corners.sum, d_sums)
         timed("3 cells: pulls", kernels._pulls_pass,
             block.connectivity, positions, normal, area, angles, pull, True, own,

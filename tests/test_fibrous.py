@@ -9,6 +9,8 @@ tests/test_conformance.py, cases "fibrous", "fibrous-reference-bending" and
 imposed surfaces; the moments, statics of a free body.
 """
 
+import dataclasses
+
 import numpy as np
 import pytest
 
@@ -466,6 +468,27 @@ def polynomial_fabric():
     )
 
 
+def linear_fabric(padded=False):
+    """Linear laws only, as the presets' tension and shear, the warp's tension-only (the
+    compiled loops evaluate three linear laws by one loop across a chunk of cells,
+    elements/fibrous/level_lanes.py ``linear_lanes``); ``padded``: the same laws written as odd
+    polynomials with a zero cubic term, which those loops evaluate law by law (``law_row``)."""
+
+    def written(law):
+        if not padded:
+            return law
+        return dataclasses.replace(law, odd_coefficients=law.odd_coefficients + (0.0,))
+
+    return Fabric(
+        thickness=3.0,
+        areal_density=1e-9,
+        tension=written(TensionLaw.linear(800.0, tension_only=True)),
+        tension_weft=written(TensionLaw.linear(300.0)),
+        shear=written(ShearLaw.linear(5.0)),
+        bending=BendingLaw.bilinear(20.0, 2.0, knee=0.01),
+    )
+
+
 @pytest.mark.parallel
 @pytest.mark.parametrize(
     "thickness, variation, tilt, clamped, options",
@@ -478,6 +501,7 @@ def polynomial_fabric():
         ("nodal", True, 0.3, False, {"bending_geometry": "reference", "nonlinear": True}),
         ("element", True, 0.3, True, {"nonlinear": True}),
         ("nodal", True, 0.3, False, {"polynomial": True}),
+        ("nodal", True, 0.3, False, {"linear": True}),
     ],
 )
 def test_the_compiled_pieces_give_the_numpy_forces(thickness, variation, tilt, clamped, options):
@@ -488,6 +512,7 @@ def test_the_compiled_pieces_give_the_numpy_forces(thickness, variation, tilt, c
     options = dict(options)
     material = nonlinear_fabric() if options.pop("nonlinear", False) else fabric()
     material = polynomial_fabric() if options.pop("polynomial", False) else material
+    material = linear_fabric() if options.pop("linear", False) else material
     mesh = Mesh.rectangle(40.0, 30.0, nx=4, ny=3)
     rng = np.random.default_rng(7)
     jitter = rng.normal(scale=0.8, size=(mesh.n_nodes, 3))
@@ -519,6 +544,30 @@ def test_the_compiled_pieces_give_the_numpy_forces(thickness, variation, tilt, c
     for reference, value in zip(loads["numpy"][:3], loads["compiled"][:3]):
         assert np.abs(value - reference).max() <= 1e-12 * np.abs(reference).max()
     assert loads["compiled"][3] == pytest.approx(loads["numpy"][3], rel=1e-12)
+
+
+@pytest.mark.parametrize("thickness", ["nodal", "element"])
+def test_three_linear_laws_in_one_loop_give_the_polynomial_loops_numbers_to_the_last_bit(
+    thickness,
+):
+    """The compiled loops' one loop for three linear laws (level_lanes.py ``linear_lanes``)
+    and their loops for any odd polynomial (``law_row``, here the same laws with a zero cubic
+    term: c x + 0 and c x^2 / 2 + 0 are c x and c x^2 / 2 exactly) give the same forces,
+    moments and energies to the last bit, on a sheet whose fibres are stretched and
+    compressed (the warp tension-only: its compressed fibres carry nothing)."""
+    loads, strains = [], []
+    for padded in (False, True):
+        built = compiled(MESH, linear_fabric(padded), thickness=thickness, kernel="compiled")
+        state = deformed(built, amplitude=0.8, tilt=0.3, seed=5)
+        block = built.blocks[0]
+        force, moment, energy = block.internal_force_and_energy(state)
+        parts = np.array(list(block.strain_energy_parts(state).values()))
+        loads.append((force, moment, np.array([energy]), parts))
+        strains.append(block.fibre_strains(state)[:, : 2 * len(block.zeta)])  # eps1, eps2
+    assert (strains[0] < 0.0).any() and (strains[0] > 0.0).any()
+    assert np.abs(loads[0][0]).max() > 0.0
+    for linear, polynomial in zip(loads[0], loads[1]):
+        np.testing.assert_array_equal(linear, polynomial)
 
 
 @pytest.mark.parametrize("thickness", ["nodal", "element"])

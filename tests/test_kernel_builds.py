@@ -435,7 +435,14 @@ def test_the_fibrous_level_lanes_run_without_reference_counting():
 
     from elements.fibrous import level_lanes
 
-    for name in ("level_lanes", "law_lanes", "law_row", "load_lanes", "moment_lanes"):
+    for name in (
+        "level_lanes",
+        "law_lanes",
+        "linear_lanes",
+        "law_row",
+        "load_lanes",
+        "moment_lanes",
+    ):
         options = getattr(level_lanes, name).targetoptions
         assert options["_nrt"] is False and options["error_model"] == "numpy", name
     made = jit.lane_rows(_fresh_array)

@@ -5,11 +5,15 @@ a quantity, a column a cell), then runs, level by level, three loops over the ch
 
 1. ``level_lanes``: each cell's fibre vectors, log strains and shear angle (cell_terms.py
    ``level_strains``: the same arithmetic as the strains pass, its log and arcsine
-   branch-free, elements/lane_maths.py), straight-line code that LLVM runs 8 cells at a time
-   (AVX-512) or 4 (AVX2);
-2. ``law_lanes``: the laws' values (and energies) of those strains, each law over the strains
-   of its family (warp, weft, shear) at once (``law_row``): an odd polynomial by loops across
-   the cells, one a coefficient, vectorised as 1; a table cell by cell (its segment searched);
+   branch-free, elements/lane_maths.py), straight-line code that LLVM runs as many cells at a
+   time as its tuning of the host asks: 8 on the AMD EPYC (znver4), 4 on the Intel Xeon of
+   AVX-512 that LLVM names rocketlake (256-bit vectors preferred; benchmarks/vector_width.py),
+   4 with AVX2;
+2. ``law_lanes``: the laws' values (and energies) of those strains: three linear laws (the
+   presets' tension and shear) in one loop across the cells (``linear_lanes``); else each
+   law over the strains of its family (warp, weft, shear) at once (``law_row``): an odd
+   polynomial by loops across the cells, one a coefficient, vectorised as 1; a table cell
+   by cell (its segment searched);
 3. ``load_lanes``: the tension and shear loads dW/dg_a of the level and their sums over the
    levels (Eq. 24-33), vectorised as 1;
 
@@ -34,7 +38,15 @@ from elements.fibrous.cell_terms import director_moment, level_strains
 from elements.fibrous.packed_laws import _POLYNOMIAL, law_energy, law_value
 from femcore.jit import lane_rows
 
-__all__ = ["CHUNK", "ROWS", "law_lanes", "level_lanes", "load_lanes", "moment_lanes"]
+__all__ = [
+    "CHUNK",
+    "ROWS",
+    "law_lanes",
+    "level_lanes",
+    "linear_lanes",
+    "load_lanes",
+    "moment_lanes",
+]
 
 # Cells a chunk: the scratch array (ROWS x CHUNK doubles, 27 kB) stays in the level-1 cache.
 # (A change here needs the kernels' numba caches cleared: the cache of kernels.py does not see
@@ -124,8 +136,20 @@ def law_lanes(lanes, count, weight, law_integers, law_reals, with_forces, with_e
     """The packed laws (packed_laws.py; 0, 1, 2: warp tension, weft tension, shear) of the
     level's strains: with ``with_forces`` their values in the rows TENSION1, TENSION2 (along
     edges 0-1 and 0-2) and SHEAR; with ``with_energy`` the level's energies A0 w_f W added to
-    the cells' sums (``weight`` w_f). Each law over the chunk's strains of its family at once
-    (``law_row``), then each cell's values and energies by its edges' families."""
+    the cells' sums (``weight`` w_f). Three linear laws (odd polynomials of one coefficient,
+    the presets' tension and shear) by one loop across the chunk (``linear_lanes``); else
+    each law over the chunk's strains of its family at once (``law_row``), then each cell's
+    values and energies by its edges' families."""
+    if (
+        law_integers[0, 0] == _POLYNOMIAL
+        and law_integers[1, 0] == _POLYNOMIAL
+        and law_integers[2, 0] == _POLYNOMIAL
+        and law_integers[0, 1] == 1
+        and law_integers[1, 1] == 1
+        and law_integers[2, 1] == 1
+    ):
+        linear_lanes(lanes, count, weight, law_integers, law_reals, with_forces, with_energy)
+        return
     for i in range(count):
         warp_first = lanes[WARP_FIRST + i] != 0.0
         eps1, eps2 = lanes[EPS1 + i], lanes[EPS2 + i]
@@ -153,6 +177,44 @@ def law_lanes(lanes, count, weight, law_integers, law_reals, with_forces, with_e
             lanes[TENSION1 + i] = warp if warp_first else weft
             lanes[TENSION2 + i] = weft if warp_first else warp
             lanes[SHEAR + i] = lanes[VALUE2 + i]
+
+
+@lane_rows
+def linear_lanes(lanes, count, weight, law_integers, law_reals, with_forces, with_energy):
+    """``law_lanes`` for three linear laws y = c x (W = c x^2 / 2; 0 below 0 where a law is
+    tension-only) in one loop across the chunk, each value and energy by ``law_row``'s
+    operations (0 + c x, 0 + c x^2 / 2: the same numbers to the last bit, -0 included). The
+    eleven loops of the force's laws (two here, three in each ``law_row``) and their rows'
+    loads and stores took 0.030 µs a cell of the three levels' lanes run alone, this loop
+    0.005; the force takes 0.98 of its time (benchmarks/explicit_step.py)."""
+    warp_c, weft_c, shear_c = law_reals[0, 0, 0], law_reals[1, 0, 0], law_reals[2, 0, 0]
+    warp_both = law_integers[0, 3] != 0  # acts in compression too
+    weft_both = law_integers[1, 3] != 0
+    shear_both = law_integers[2, 3] != 0
+    for i in range(count):
+        warp_first = lanes[WARP_FIRST + i] != 0.0
+        eps1, eps2, gamma = lanes[EPS1 + i], lanes[EPS2 + i], lanes[GAMMA + i]
+        warp = eps1 if warp_first else eps2
+        weft = eps2 if warp_first else eps1
+        if with_energy:
+            warp_w = 0.0 + warp_c * (warp * warp) / 2
+            weft_w = 0.0 + weft_c * (weft * weft) / 2
+            shear_w = 0.0 + shear_c * (gamma * gamma) / 2
+            warp_w = warp_w if warp_both or not warp < 0.0 else 0.0
+            weft_w = weft_w if weft_both or not weft < 0.0 else 0.0
+            shear_w = shear_w if shear_both or not gamma < 0.0 else 0.0
+            w = lanes[AREA + i] * weight  # A0 w_f
+            lanes[TENSION_ENERGY + i] += w * (warp_w + weft_w)
+            lanes[SHEAR_ENERGY + i] += w * shear_w
+        if with_forces:
+            warp_t = 0.0 + warp_c * warp
+            weft_t = 0.0 + weft_c * weft
+            shear_t = 0.0 + shear_c * gamma
+            warp_t = warp_t if warp_both or not warp < 0.0 else 0.0
+            weft_t = weft_t if weft_both or not weft < 0.0 else 0.0
+            lanes[TENSION1 + i] = warp_t if warp_first else weft_t
+            lanes[TENSION2 + i] = weft_t if warp_first else warp_t
+            lanes[SHEAR + i] = shear_t if shear_both or not gamma < 0.0 else 0.0
 
 
 @lane_rows
