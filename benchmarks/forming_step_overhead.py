@@ -428,6 +428,61 @@ points of one candidate each, 40 at the 81 of six; the choice 32 / 26, the sides
 14; numba's dispatch of their 35 and 49 arguments 2.1 and 4.9 us of that) and some 20-40 us of
 Python round them (about 25 arrays made, the Facing, the caches' tests); of the history, its
 pass's kernel and the landing's (half the steps land a point).
+
+Eleventh round (main 186b5d5; one numba thread, CPU, 2 cores shared with other jobs). The
+split again (``--split``, the timers' own cost in the figures): fibrous [0/90], 4131 steps,
+2.791 ms a step (load 4.1): the committed history 1.002 ms (``update_history`` 479 us a call,
+two a step; the facing of the new state 0.586 ms a step over 4.43 calls: two made, the others
+kept), the step 0.931 (the forces 0.626: the ply loads 0.318, ``ply_loads`` 0.209 of it; the
+tools' rows 0.049, kept), the tools' forces at the new state for the history's row 0.351 (the
+die's and the holder's ``surface_forces`` 0.251, 126 us a call; the next step's loads find
+them kept), the stable step 0.133 (1.33 ms every tenth step, the ply springs 0.101), the
+energy check's pass 0.116, the tools' work 0.064, the row 0.061, the frames 0.060; Mindlin
+[0/90], 32225 steps (the stroke slowed x4, STROKE_SLOWING), 2.109 ms a step (load 4.8): the
+committed history 0.956 (``update_history`` 468 us a call; the facing 0.556 over 4.40
+calls), the step 0.843 (the forces 0.562: the ply loads 0.258, the tools' rows 0.242, the
+die's and the holder's ``surface_forces`` 103 us a call, made by the loads: a row every
+seventh step), the stable step 0.109, the energy check 0.106. The work the step once did twice
+at one state is not done twice any more: ``closest_facing`` runs 0.04 times a step (the
+choice is made in the facing's front pass), ``friction_state`` 2.2 times at 10-13 us (the
+loads' mapping kept from the history's pass). What a step is now (an ITIMER_PROF sampler of
+the Python stack, Mindlin [0/90], the first half of the stroke, load 5.0, 2.106 ms a step):
+the compiled kernels' own code about a third (the calls through femcore/jit.py 0.21 ms, the
+facing's front pass 0.185, its sides' and fade's pass 0.113, the friction's history pass
+0.062, the ply loads' pass 0.053, the die's closest facets 0.024), the rest Python and numpy
+round some fifty compiled calls and some four hundred numpy calls, none of them above 0.04
+ms a step. A made facing (``begun``, the first tenth of the Mindlin [0/90] run, load 2.9-3.0)
+281-325 us a call: the front's pass 86-91, the sides' and fade's 52-54, the first call's 21
+output arrays 13-16 us, the rest Python round them. The die's lists renewed (``_searched``)
+0.1 a step in that tenth at 1.30-1.35 ms (the k-d tree's k = 8 query then k = 32 for the
+points it leaves unsure, 331 us a call, the ball query 364 us), 0.05 ms a step over the run.
+
+One cut, the same bits: the ply contact's side and landing masks in one compiled pass each
+(elements/ply_side_masks.py: ``ply_sides.behind``'s flags once a block-step,
+``ply_landing.landing_rows`` twice), where numpy made each from three to five calls on the
+points: on 384 points (load 4.6) ``landing_rows`` 6.8-7.0 -> 2.3-2.6 us, ``behind`` 9.5-10.1
+-> 1.9-3.1 us; timed in place on 300 replayed steps (the Mindlin [0/90] run's 2000-2300, CPU
+timers round each) ``behind`` 16.0-17.1 -> 7.7 us, ``landing_rows`` 8.3-9.4 -> 5.3-5.9 us:
+about 14 us a block-step. benchmarks/ply_side_masks.py (the committed history and the next
+loads replayed, both ways alternating in one process, the same digests): 373.5 -> 373.8 and
+384.3 -> 372.5 us a block-step at steps 2000-2300 (best of 12 and 16, load 2.2-2.7), 432.7 ->
+439.5 and 453.3 -> 447.2 at 8000-8300 (best of 8 and 16): within the replay's noise.
+
+Beside main 186b5d5 (``git archive``; ``--reference``, alternating, best of 2; each tree's
+numba cache warmed by a run before): fibrous [0/90], 4131 steps, 2.208 -> 2.230 ms a step
+(load 2.9-3.7); fibrous [0/45], 4983 steps, 2.641 -> 2.349 (load 2.8-3.3; the part outside
+the ply history, which the cut does not touch, moved as much: the noise); Mindlin [0/90],
+32225 steps, 1.714 -> 1.724 (load 2.2-3.1); the same steps and final positions and directors
+to the bit in each. hemisphere-plies default (``python -m validation --cases hemisphere-plies
+--jobs 1``, the two trees at once, load 3-4): case_cpu_s 110.6 -> 108.5 s (fibrous [0/90]
+12.09 -> 11.36, Mindlin [0/90] 65.10 -> 64.11, fibrous [0/45] 12.73 -> 12.46, Mindlin [0/45]
+19.49 -> 19.40; one pair, within the noise); results.json the same in all its 313 numbers but
+the times, the three PNG files byte for byte, 24 of 24 checks. The report's longest task is
+the Mindlin [0/90] run, 32225 steps at 1.7-2.0 ms: 55-65 s of CPU, alone above the 60 s asked
+of the whole report on two cores. What would move it: the ply contact's history and loads and
+the tools' forces per block in one compiled pass each (the glue between the calls is two
+thirds of the step), or fewer steps (the stroke's pace, STROKE_SLOWING x4, or the step's
+bound: the penalty springs calibrated on the cells' bound).
 """
 
 from __future__ import annotations

@@ -69,6 +69,7 @@ from typing import TYPE_CHECKING, overload
 
 import numpy as np
 
+from elements import ply_side_masks
 from elements.ply_edge_landing import Crossing, crossing_motion
 from elements.ply_projection import triangle_frames
 from elements.ply_sides import TOUCHING, PlySides
@@ -189,6 +190,8 @@ def landing_rows(block: PlyContactBlock, history: PlyFrictionHistory, facing: Fa
     if sides is None or block.friction <= 0.0:
         return np.empty(0, dtype=np.intp)
     # (points facing an edge or a vertex among them: they land by ``edge_crossing``)
+    if ply_side_masks.COMPILED:  # one pass (elements/ply_side_masks.py), the same rows
+        return ply_side_masks.landing_rows(facing.touching, history.triangle, sides.sides, TOUCHING)
     return np.flatnonzero(facing.touching & (history.triangle < 0) & (sides.sides != TOUCHING))
 
 

@@ -46,6 +46,8 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from elements import ply_side_masks
+
 if TYPE_CHECKING:
     from elements.ply_block import PlyContactBlock
     from elements.ply_projection import Facing
@@ -109,7 +111,12 @@ def behind(block: PlyContactBlock, state: State, facing: Facing, last: PlySides)
     by less than that depth below the face, or kept off then and still behind a face."""
     gap = facing.gap
     depth = block.depth
-    entered = (last.sides == CLEAR) & (gap < -depth)
+    if ply_side_masks.COMPILED:  # one pass for the flags (elements/ply_side_masks.py)
+        entered, off, count = ply_side_masks.entered_off(gap, last.sides, depth, CLEAR, BEHIND)
+        if count == 0:  # (most steps: no point came deeper than the depth)
+            return off
+    else:
+        entered = (last.sides == CLEAR) & (gap < -depth)
     rows = np.flatnonzero(entered)
     if len(rows):
         faces, corners = block._faces(state)
