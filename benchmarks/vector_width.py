@@ -50,6 +50,7 @@ import time
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(ROOT))  # run from anywhere: this tree's packages first
 
 
 def _features(wide: bool) -> dict:

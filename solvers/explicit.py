@@ -162,7 +162,8 @@ class CentralDifference(StableStepRule):
         and a departure above TOOL_FORCE_SHARE = 0.2 (its ringing, its inertia) warns once
         unless the bound is None.
     process_duration : s, the duration of the real process, when ``duration`` is shorter
-        (time scaling): the factor process_duration / duration is reported with its KE / W.
+        (time scaling): the factor process_duration / duration (>= 1; a shorter process is
+        refused) is reported with its KE / W.
     """
 
     def __init__(
@@ -239,6 +240,12 @@ class CentralDifference(StableStepRule):
             else check_positive_or_none(kinetic_bound, "kinetic_bound", "a ratio KE / W")
         )
         self.process_duration = check_positive_or_none(process_duration, "process_duration", "s")
+        if self.process_duration is not None and self.process_duration < self.duration:
+            raise ValueError(
+                f"process_duration = {process_duration!r} s is shorter than the run's duration "
+                f"= {duration!r} s: it is the real process's duration, of which a time-scaled "
+                "run is the faster version (time scaling = process_duration / duration >= 1)"
+            )
         # (assembled Gershgorin step, the cells' bound and the step when it was evaluated),
         # set by solve
         self._assembled: tuple[float, float, int] | None = None

@@ -223,6 +223,13 @@ def test_mass_scaling_reports_the_mass_it_added_and_the_kinetic_energy_it_raised
     )
 
 
+def test_a_process_shorter_than_its_time_scaled_run_is_refused():
+    # Accepted, it reported a time scaling of 0.5: a run slower than the process it speeds up.
+    with pytest.raises(ValueError, match="process_duration = 0.5 s is shorter than the run's"):
+        CentralDifference(duration=1.0, process_duration=0.5)
+    assert CentralDifference(duration=1.0, process_duration=1.0).process_duration == 1.0
+
+
 def test_time_scaling_is_the_process_duration_over_the_run_duration():
     solver = CentralDifference(duration=0.2 * PERIOD, process_duration=2.0 * PERIOD)
     result, _ = solve_quietly(solver)
