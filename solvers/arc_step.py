@@ -1,6 +1,7 @@
 """The step length of the arc-length path (solvers.arc_length, docs/theory.md §6.6, "Step
-length"): Crisfield's iteration rule, bounded by the load factor a step may carry and by how
-far the path turned, never by the first step's length alone."""
+length"): Crisfield's iteration rule, bounded by the first step's length while the path keeps
+its stiffness, and once it has softened by the load factor a step may carry and by how far the
+path turned."""
 
 from __future__ import annotations
 
@@ -28,18 +29,19 @@ __all__ = [
 # a step is at most halved or doubled from one increment to the next.
 SHORTEST_GROWTH = 0.5
 LONGEST_GROWTH = 2.0
-# The largest angle (rad) the path may turn over one step, between the scaled motions of two
-# consecutive increments: a step is shortened in proportion where the last one turned more
-# (the turn over a step of length l is about l / rho, rho the path's radius of curvature). At a
-# fold of the motion (the von Mises truss under an imposed displacement) this keeps the step
-# below the fold's size, where the cylinder would otherwise cut the path on the far branch.
+# The largest angle (rad) a softened path may turn over a step lengthened past the first
+# step's, between the scaled motions of two consecutive increments: such a step is shortened
+# in proportion where the last one turned more (the turn over a step of length l is about
+# l / rho, rho the path's radius of curvature). Near a fold of the motion (the von Mises truss
+# under an imposed displacement) the secant carries little load, and without it a long step's
+# cylinder would cut the path on the far branch.
 TURN_LIMIT = 0.25
 # The load-factor bound lengthens the steps only where it exceeds the first step's longest
 # by this factor: a path that has softened (a strip past its buckling load carries 1e-3 of
 # the load per length its first step did), not one whose secant wanders around its first
 # stiffness (the von Mises truss, 0.95-1.1 of it away from its folds: there every run from 3
 # to 20 increments keeps the steps, the increments and the limit points of the first-step
-# rule; at 1, 9 of its 36 runs changed and one jumped a fold).
+# rule; at 1, 31 of its 36 runs took other steps and one jumped a fold).
 SOFTER = 2.0
 # Crisfield's rule counts an increment's iterations down to this residual ratio (or to the
 # tolerance where that is larger; ``iterations_spent``): the round-off floor's gate.
@@ -72,18 +74,20 @@ class ArcStep:
     """The next arc-length step of one phase, from the increments converged so far.
 
     After an increment of motion ``m`` (length l, load-factor change dlambda) that took
-    ``spent`` factorising iterations, the next length is
+    ``spent`` iterations (``iterations_spent``), the next length is
 
-        l_next = min(l g, l_load, l_turn),  g = sqrt(aim / spent) within [1/2, 2]
-        l_load = max(l_1, l / (increments |dlambda|))
-        l_turn = l TURN_LIMIT / theta   (theta > TURN_LIMIT, the turn from the increment before)
+        l_next = min(l g, l_1)                        while l_load <= SOFTER l_1, else
+        l_next = max(min(l g, l_1), min(l g, l_load, l_turn)),
+        g = sqrt(aim / spent) within [1/2, 2],  l_load = l / (increments |dlambda|),
+        l_turn = l TURN_LIMIT / theta  (where the turn theta from the increment before
+        exceeds TURN_LIMIT; none after a push along a buckling mode).
 
-    l_load lets a step carry at most the load factor of one load step, 1 / increments, along
-    the last increment's secant, so that ``increments`` keeps its meaning of a resolution
-    along the load; l_1 is the first increment's longest step as before (its length, stretched
-    to a load step of 1 / increments where it carried less), kept as a floor so that no path
-    takes more steps than under that rule. Where the path softens (a strip past its buckling
-    load) l_load grows with it: the first step no longer caps the rest.
+    l_1 is the first increment's length, stretched to a load step of 1 / increments where it
+    carried less (the rule before, whose cap tied every step to the first). l_load is the
+    length along the last secant that carries one load step, 1 / increments: once the path
+    has softened (a strip past its buckling load) the steps grow with it, and ``increments``
+    keeps its meaning of a resolution along the load. No step is shorter than the rule before
+    would take from the same increment.
 
     Parameters
     ----------
