@@ -76,7 +76,7 @@ def _quarter_period(k: float) -> float:
 # form. The tolerances hold three times the 20-cell error.
 LATERAL_TOLERANCE = {"mindlin": 3.3e-3, "fibrous": 1.9e-3}
 ALONG_TOLERANCE = {"mindlin": 7e-3 * LENGTH, "fibrous": 2.1e-3 * LENGTH}
-# The most increments each path may take (taken when this was written: Mindlin 27-29 at 3, 5
+# The most increments each path may take (taken when this was written: Mindlin 27-31 at 3, 5
 # and 10 increments, fibrous 60-66; before, every run stopped near 0.65 Pcr after its
 # max_increments of steps of the first one's length, 20 x increments + 20).
 MOST_STEPS = {"mindlin": 40, "fibrous": 80}
