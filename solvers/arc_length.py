@@ -5,8 +5,9 @@ The load factor lambda is an unknown, and each increment moves a fixed distance 
 in the space of the nodal motions (translations, and director rotations times the element size;
 ``Motion``), so that limit points (the load passes a maximum), snap-backs and post-buckling
 branches are followed instead of jumped over. The step length adapts to the number of
-iterations the previous increment needed (Crisfield's rule); the last increment lands on the
-end of the phase exactly. Where the count of negative eigenvalues grows while the load keeps
+iterations the previous increment needed (Crisfield's rule), within the bounds of the load a
+step may carry and of the path's turn (solvers.arc_step); the last increment lands on the end
+of the phase exactly. Where the count of negative eigenvalues grows while the load keeps
 its direction (a bifurcation), the next increment starts along the buckling mode
 (solvers.stability).
 
@@ -25,9 +26,11 @@ import scipy.sparse as sp
 from femcore.compiled_loads import evaluate
 from femcore.dofs import N_COLUMNS
 from femcore.state import State
+from solvers.arc_step import ArcStep, iterations_spent
 from solvers.common import check_integer, check_non_negative
 from solvers.line_search import ARMIJO, model_extent, step_cap
 from solvers.newton import IncrementFailed, at_round_off_floor, mechanism, newton
+from solvers.round_off import FLOOR_FACTOR, ROUND_OFF_GATE, round_off_ratio
 from solvers.stability import buckling_mode
 
 if TYPE_CHECKING:
@@ -40,7 +43,6 @@ __all__ = [
     "DESIRED_ITERATIONS",
     "changed_options",
     "JUMP_ITERATIONS",
-    "LONGEST_STEP",
     "SHIFT_CEILING",
     "SHIFT_FLOOR",
     "STALL_WINDOW",
@@ -58,9 +60,6 @@ __all__ = [
 # the next step length is scaled by sqrt(arc_iterations / iterations taken) (Crisfield),
 # within [1/2, 2].
 DESIRED_ITERATIONS = 5
-# The longest arc-length step, in lengths of the first one (4 jumped the fold of the von Mises
-# truss at 12 increments and saved nothing on bai-5.1: 19.3 s against 17.5 s).
-LONGEST_STEP = 1.0
 # A load step that leaves a limit point (at_limit="jump") may take this many times
 # max_iterations: the stable branch beyond a snap is far.
 JUMP_ITERATIONS = 5
@@ -215,9 +214,7 @@ def arc_length_path(run: StaticRun, phase: int) -> bool:
         return False
     arc: float | None = None  # step length (the scaled norm of Motion)
     previous: Motion | None = None  # the last converged increment
-    # The longest step: LONGEST_STEP x that of the first increment (lambda up by
-    # 1 / increments), so that ``increments`` keeps a meaning of resolution along the path.
-    longest: float | None = None
+    step = ArcStep(solver.increments, solver.arc_iterations)
     switches = 0
     negative_before = run.negative
     for _ in range(solver.max_increments):
@@ -284,18 +281,12 @@ def arc_length_path(run: StaticRun, phase: int) -> bool:
         run.accept(state, load_factor)
         run.frame(count, ratio, history)
         previous = motion
-        # Crisfield's step-length rule: aim at ``arc_iterations`` next time, counting the
-        # iterations that factorised (a chord step costs one solve).
-        aim = solver.arc_iterations
-        spent = count - chord_steps
-        arc = motion.length * float(np.clip(np.sqrt(aim / max(spent, 1)), 0.5, 2.0))
-        if longest is None:
-            # The first step's length, stretched to the path length of a load step of
-            # 1 / increments where the first step carried less (a path that starts soft:
-            # its tangent predicts far more motion than the load gives).
-            carried = max(motion.load, 1e-300)
-            longest = LONGEST_STEP * motion.length * max(1.0, 1.0 / (solver.increments * carried))
-        arc = min(arc, longest)
+        # Crisfield's rule within the bounds of the load carried and the path's turn
+        # (solvers.arc_step), counting the iterations that factorised (a chord step costs one
+        # solve).
+        pushed = prediction is not None and prediction.mode
+        spent = iterations_spent(history, count, chord_steps, solver.tol)
+        arc = step.after(motion, spent, pushed)
         negative = run.negative
         if (
             solver.seek_stable
@@ -355,14 +346,28 @@ def arc_corrector(run: StaticRun, pattern, prediction: Motion):
     factor = None
     chords = 0  # chord steps in a row (``Static(arc_chords=...)``)
     chord_steps = 0  # chord steps in all
+    # The residual's round-off floor (solvers.round_off), measured once an iterate is within
+    # ROUND_OFF_GATE, as Newton on the load path does: a fibrous strip's increments otherwise
+    # spent 2-3 of their 4-5 iterations at ratios of 2e-7 that no step lowers, and Crisfield's
+    # rule read them as a hard increment (docs/theory.md §6.6, "Step length").
+    floor: float | None = None
+    probe = not model.interactions and run.dashpots is None
     for iteration in range(1, solver.max_iterations + 1):
         frames = dofs.frames(state.directors)
         equilibrium = run.equilibrium(load_factor)
-        r, ratio, _ = equilibrium.residual(state, frames)
+        r, ratio, forces = equilibrium.residual(state, frames)
         history.append(ratio)
         if not np.isfinite(ratio):
             raise IncrementFailed("non-finite residual")
-        if ratio <= solver.tol:
+        tol = solver.tol
+        if probe and tol < ratio <= ROUND_OFF_GATE:
+            if floor is None:
+                floor = FLOOR_FACTOR * round_off_ratio(equilibrium, state, frames, r, forces)
+                run.info["round_off_probes"] += 1
+            if floor <= ROUND_OFF_GATE:  # more is not rounding: a force a translation moves
+                tol = max(tol, floor)
+        if ratio <= tol:
+            run.info["round_off_converged"] += int(ratio > solver.tol)
             if factor is None:
                 factor = run.factorise(run.tangent(state, frames)[0])
             return (

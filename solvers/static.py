@@ -70,8 +70,10 @@ class Static:
     """Quasi-static solver: Newton-Raphson on the free DOFs with a sparse tangent.
 
     increments : load path: the number of equal load-factor steps (one frame each); arc-length
-        path: sets the first step, whose load-factor increment is 1 / increments (later steps
-        adapt).
+        path: sets the first step, whose load-factor increment is 1 / increments, and the
+        resolution of the later ones, which adapt: no longer than the first while the path
+        keeps its stiffness, and once it has softened no step carrying more than 1 /
+        increments of load (solvers.arc_step, docs/theory.md §6.6 "Step length").
     tol : convergence when ||r_forces|| <= tol F_ref and ||r_moments|| <= tol F_ref L_e (or,
         at the round-off floor, when a full Newton step moves no DOF by more than 1e-9 of an
         element or 1e-9 rad while the ratio is below 1e-3, or, on the load path (not in the

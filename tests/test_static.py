@@ -587,9 +587,10 @@ def test_an_increment_of_plies_that_fails_is_cut_after_one_attempt():
 
 def test_arc_iterations_aims_the_arc_length_steps_and_keeps_the_closed_form_path():
     # Crisfield's rule scales the next step length by sqrt(arc_iterations / iterations taken),
-    # within [1/2, 2] and never above the longest step: aimed at 10 iterations the steps grow
-    # where those taken are fewer, and some step is longer than the default's aim of 5 would
-    # allow; every frame still lies on the truss' closed form t(w) = 6 lambda.
+    # within [1/2, 2] and never above the longest step (docs/theory.md §6.6 "Step length"):
+    # aimed at 10 iterations the steps grow where those taken are fewer, and some step is
+    # longer than the default's aim of 5 would allow; every frame still lies on the truss'
+    # closed form t(w) = 6 lambda.
     model, rise, truss_force, travel = _von_mises_truss()
     default = Static(increments=12, path="arc_length").solve(model)
     aimed = Static(increments=12, path="arc_length", arc_iterations=10).solve(model)
@@ -602,13 +603,23 @@ def test_arc_iterations_aims_the_arc_length_steps_and_keeps_the_closed_form_path
         float(np.linalg.norm(b.positions - a.positions))
         for a, b in zip(aimed.frames[:-1], aimed.frames[1:])
     ]
-    counts = aimed.info["iterations_per_increment"]
+    # The iterations Crisfield's rule counts: down to the settled ratio (solvers.arc_step).
+    from solvers.arc_step import iterations_spent
+
+    info = aimed.info
+    counts = [
+        iterations_spent(history, count, 0, 1e-8)
+        for history, count in zip(info["residual_history"], info["iterations_per_increment"])
+    ]
     ratios = [after / before for before, after in zip(lengths[:-1], lengths[1:])]
     bound = [float(np.clip(np.sqrt(10 / max(n, 1)), 0.5, 2.0)) for n in counts[:-1]]
     assert all(r <= b * (1 + 1e-9) for r, b in zip(ratios, bound))
     default_aim = [float(np.clip(np.sqrt(5 / max(n, 1)), 0.5, 2.0)) for n in counts[:-1]]
     assert any(r > b * (1 + 1e-6) for r, b in zip(ratios, default_aim))
-    assert len(aimed.frames) < len(default.frames)
+    # No more increments than at the default aim (47 each when this was written: the first
+    # step's length caps most of the truss's steps either way since Crisfield's rule counts
+    # the iterations down to the settled ratio, solvers.arc_step; 51 at the default before).
+    assert len(aimed.frames) <= len(default.frames)
 
 
 @pytest.mark.parametrize("bad", [0, 2.5, True, "5"])

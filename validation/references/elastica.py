@@ -571,3 +571,30 @@ def peirce_overhang(
         "chord_angle": shape["chord_angle"],
         "solution": shape,
     }
+
+
+def buckled_cantilever_column(length: float, load: float, bending_stiffness: float) -> dict:
+    """The elastica of an inextensible column clamped at s = 0 and free at s = L under a dead
+    axial tip load P above its critical load Pcr = pi^2 EI / (4 L^2) (Timoshenko and Gere,
+    Theory of Elastic Stability, 2nd ed. 1961, §2.7): with k = sin(alpha / 2), alpha the tip's
+    turn, L sqrt(P / EI) = K(k), so sqrt(P / Pcr) = 2 K(k) / pi; the tip moves across by
+    delta = 2 k L / K(k) and stands at x = L (2 E(k) / K(k) - 1) along the load's line (K, E
+    the complete elliptic integrals of modulus k).
+
+    length : L, mm; load : P, N (> Pcr); bending_stiffness : EI, N mm^2.
+    Returns alpha (rad), lateral (delta, mm) and tip_x (mm).
+    """
+    from scipy.special import ellipe, ellipk
+
+    critical = np.pi**2 * bending_stiffness / (4.0 * length**2)
+    if not load > critical:
+        raise ValueError(f"load must exceed the critical load {critical:.6g} N, got {load!r}")
+    target = np.sqrt(load / critical)
+    # scipy's ellipk and ellipe take the parameter m = k^2.
+    k = brentq(lambda k: 2.0 / np.pi * ellipk(k**2) - target, 1e-12, 1.0 - 1e-15, xtol=1e-15)
+    quarter = ellipk(k**2)
+    return {
+        "alpha": 2.0 * np.arcsin(k),
+        "lateral": 2.0 * k * length / quarter,
+        "tip_x": length * (2.0 * ellipe(k**2) / quarter - 1.0),
+    }
