@@ -108,7 +108,7 @@ from femcore.interaction import InteractionBlock
 from femcore.model import CompiledModel
 from femcore.state import State
 from solvers import contact_sets
-from solvers.common import IncrementFailed, StepTooLong
+from solvers.common import IncrementFailed, StepTooLong, TurnedInsideOut
 from solvers.convergence import Equilibrium
 from solvers.imposed_alone import imposes_alone, moves_prescribed, opens_contact
 from solvers.inertia import convexified_step
@@ -193,9 +193,7 @@ def newton(
         # (``unilateral_fallback = False``: the ply contact's active set, whose unilateral law
         # is the plain penalty; elements/ply_active_set.py).
         if not any(
-            part.unilateral_fallback
-            for part in run.model.interactions
-            if part.keeps_contact_sets
+            part.unilateral_fallback for part in run.model.interactions if part.keeps_contact_sets
         ):
             raise
         run.info["contact_set_fallbacks"] += 1
@@ -328,10 +326,12 @@ def _iterate(
     history: list[float],
     turn_limit: float | None = None,
     alone_first: bool = False,
+    escapes: int = 0,
 ):
     """The Newton iterations of ``newton``; ``history`` receives the residual ratios.
     ``alone_first``: the increment's prescribed motion applied alone at the first iteration
-    whatever its first step turns (``_newton``'s retry)."""
+    whatever its first step turns (``_newton``'s retry). ``escapes``: the saddles of this
+    increment ``state`` was pushed off so far (``_escape``); its steps are turned downhill."""
     solver = run.solver
     model = run.model
     dofs = model.dofs
@@ -339,7 +339,6 @@ def _iterate(
     index, moved_index = dofs.free_slots, dofs.prescribed_slots
     size = model.element_size
     singular = False
-    escapes = 0
     translation = index % N_COLUMNS < 3
     factor: Factorisation | None = None
     forces = None  # the internal forces of the accepted trial, reused next iteration
@@ -378,7 +377,6 @@ def _iterate(
             raise IncrementFailed(
                 f"the residual ratio stayed above {STALLED_RATIO:g} for {window} iterations"
             )
-        push = False
         tangent: tuple[Any, Any] | None = None  # (K_ff, K_fp) at ``state``, when assembled
         modes: tuple[np.ndarray, np.ndarray] | None = None  # their lowest modes
         tol = solver.tol
@@ -402,34 +400,31 @@ def _iterate(
                     state, frozen = model.thaw(state), False
                 continue
             state = unfrozen
-            if factor is None:  # no factorisation yet: one for the stability report
-                factor = run.factorise(run.tangent(state, frames)[0])
+            run.refuse_inverted(state)  # before it is judged or pushed
+            # The stability of the converged state is its own tangent's: the one factorised on
+            # the way is an iterate's before it (StaticRun.factor_at).
+            factor = run.factor_at(state, factor)
             negative = factor.negative or 0
             if not (negative and solver.seek_stable and escapes < 3):
                 return run.settled(state, factor), iteration - 1, ratio, history
-            # A saddle that no push along its negative modes descends from stays: the
-            # quartic terms close the way off within a fraction of the push (solvers.stability).
-            tangent = run.tangent(state, frames)
-            modes = lowest_modes(tangent[0], negative)
+            # A saddle: left along a negative mode where a push there, relaxed, lowers the
+            # energy and Newton converges from it; kept otherwise (solvers.stability).
+            k_ff = run.tangent(state, frames)[0]
+            modes = lowest_modes(k_ff, negative)
             run.info["mode_searches"] += 1
             load = equilibrium.load(frames).ravel()[index]
-            if not push_descends(run, state, frames, load, modes, translation):
-                run.info["saddles_kept"].append(load_factor)
-                settled = run.settled(state, factor)
-                run.on_kept_saddle = True
-                return settled, iteration - 1, ratio, history
-            # An unstable equilibrium: leave it along its buckling mode.
-            escapes += 1
-            push = True
-            if frozen:  # the frozen sets change the tangent
-                state, _ = model.freeze(state)
-                tangent, modes = None, None
-            run.info["branch_switches"].append(load_factor)
-            run.progress(
-                f"load factor {load_factor:.4g}: unstable equilibrium, leaving it along "
-                "the buckling mode",
-                force=True,
+            descent = push_descends(
+                run, state, frames, load, modes, translation, factor, equilibrium
             )
+            if descent is not None:
+                escaped = _escape(run, descent[1], load_factor, max_iterations, frozen, escapes)
+                if escaped is not None:
+                    left_state, count, ratio_left, more = escaped
+                    return left_state, iteration - 1 + count, ratio_left, history + more
+            run.info["saddles_kept"].append(load_factor)
+            settled = run.settled(state, factor)
+            run.on_kept_saddle = True
+            return settled, iteration - 1, ratio, history
         if tangent is None:
             # Far from equilibrium the fibres' compression is left out of the fibrous tangent's
             # stress terms (docs/theory.md §6.5); near it, and at every converged state whose
@@ -462,7 +457,7 @@ def _iterate(
             run.info["regularised_iterations"] += 1
             if delta_free is None:
                 raise IncrementFailed(f"singular tangent stiffness: {mechanism(model)}")
-        if alone and iteration == 1 and not push and np.abs(left).max(initial=0.0) > 0.0:
+        if alone and iteration == 1 and np.abs(left).max(initial=0.0) > 0.0:
             # The tangent of the converged state holds every touching point stuck, and its
             # linear step may take the prescribed motion up where the stick springs are softest:
             # a pulled ply's free directors turned 2 rad for 0.5 mm. Where it turns a director
@@ -511,17 +506,12 @@ def _iterate(
                 raise StepTooLong(first_turn)
         if turned:
             # More negative modes than downhill turns: the shifted tangent's step (inertia).
-            shifted = (
-                None if push else convexified_step(run, k_ff, rhs, factor.negative, delta_free)
-            )
-            load = equilibrium.load(frames).ravel()[index]
+            shifted = convexified_step(run, k_ff, rhs, factor.negative, delta_free)
             if shifted is None:
                 if modes is None:  # shift-invert with the factorisation just made
                     modes = lowest_modes(k_ff, factor.negative, factor.inverse())
                     run.info["mode_searches"] += 1
-                shifted = downhill(
-                    k_ff, rhs, delta_free, load, translation, size, push, factor.negative, modes
-                )
+                shifted = downhill(k_ff, rhs, delta_free, factor.negative, modes)
             delta_free = shifted
         flat = left.ravel().copy()
         flat[index] = delta_free
@@ -541,7 +531,7 @@ def _iterate(
         # The second-order term of a plain step on a definite tangent (solvers.newton_curvature);
         # the line search falls back along the straight step.
         straight = None
-        if solver.curved and curving and not (push or turn or regularised or factor.negative):
+        if solver.curved and curving and not (turn or regularised or factor.negative):
             curved = curved_step(run, equilibrium, state, frames, delta, r, factor)
             if curved is not None:
                 straight, delta = delta, curved
@@ -549,7 +539,7 @@ def _iterate(
         # Where the projected step fails, the line search backtracks along the Newton step
         # itself: a strip bending past the knee of a bilinear law (tests/test_compare.py)
         # stopped at load factor 0.3 when it backtracked along the projected one.
-        if run.fibres is not None and smooth and not push:
+        if run.fibres is not None and smooth:
             if straight is None:
                 straight = delta
             delta = run.fibres.project(run, state.positions, straight, delta)
@@ -557,13 +547,13 @@ def _iterate(
         # Every level's fibre strains and shear angles where the step's first order puts them,
         # at the least energy in the tangent (solvers.newton_levels).
         # Only on plain steps of a definite tangent, as the curved steps.
-        plain = not (push or imposing or turn or regularised or factor.negative)
+        plain = not (imposing or turn or regularised or factor.negative)
         if run.levels is not None and smooth and plain:
             if straight is None:
                 straight = delta
             delta = run.levels.project(run, state, frames, straight, delta, k_ff)
-        scale, state, forces = watchdog.step(state, frames, delta, r, push or imposing, straight)
-        if solver.chords and smooth and scale == 1.0 and not (push or imposing):
+        scale, state, forces = watchdog.step(state, frames, delta, r, imposing, straight)
+        if solver.chords and smooth and scale == 1.0 and not imposing:
             state, forces = chord_corrections(
                 run, equilibrium, watchdog, state, frames, forces, factor, solver.chords
             )
@@ -595,6 +585,36 @@ def _iterate(
         f"residual ratio {history[-1]:.3g} after {allowed} iterations"
         + (f"; the tangent was singular: {mechanism(model)}" if singular else "")
     )
+
+
+def _escape(
+    run: StaticRun,
+    pushed: State,
+    load_factor: float,
+    max_iterations: int | None,
+    frozen: bool,
+    escapes: int,
+):
+    """Newton from ``pushed``, a saddle's push that lowers the energy
+    (solvers.stability.push_descends), its steps turned downhill: the ``_iterate`` result, or
+    None when it fails (the saddle is then kept: a push may find a descent where no lower
+    branch is within Newton's reach), except where it converged with cells turned inside out
+    (TurnedInsideOut: the increment is cut, shorter increments find the branch)."""
+    more: list[float] = []
+    try:
+        left = _iterate(run, pushed, load_factor, max_iterations, frozen, more, escapes=escapes + 1)
+    except TurnedInsideOut:
+        raise  # no saddle is kept for it: the increment is cut
+    except IncrementFailed as failure:
+        run.info["escapes_failed"].append(load_factor)
+        run.progress(f"load factor {load_factor:.4g}: no way off the saddle ({failure})")
+        return None
+    run.info["branch_switches"].append(load_factor)
+    run.progress(
+        f"load factor {load_factor:.4g}: unstable equilibrium, left along the buckling mode",
+        force=True,
+    )
+    return left
 
 
 def refreeze(run: StaticRun, equilibrium: Residual, start: State, state: State, near: bool = False):
