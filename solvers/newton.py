@@ -97,7 +97,7 @@ the residual's rounding at the iterate (solvers.round_off).
 from __future__ import annotations
 
 from dataclasses import replace
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
 
 import numpy as np
 import scipy.sparse as sp
@@ -108,7 +108,7 @@ from femcore.interaction import InteractionBlock
 from femcore.model import CompiledModel
 from femcore.state import State
 from solvers import contact_sets
-from solvers.common import IncrementFailed, StepTooLong, TurnedInsideOut
+from solvers.common import IncrementFailed, StepTooLong
 from solvers.convergence import Equilibrium
 from solvers.imposed_alone import imposes_alone, moves_prescribed, opens_contact
 from solvers.inertia import convexified_step
@@ -117,8 +117,9 @@ from solvers.linear import Factorisation
 from solvers.newton_chords import chord_corrections
 from solvers.newton_curvature import curved_step
 from solvers.round_off import FLOOR_FACTOR, ROUND_OFF_GATE, round_off_ratio
+from solvers.saddles import judged
 from solvers.stabilisation import Dashpots
-from solvers.stability import downhill, lowest_modes, push_descends
+from solvers.stability import downhill, lowest_modes
 
 if TYPE_CHECKING:
     from solvers.static import StaticRun
@@ -339,7 +340,6 @@ def _iterate(
     index, moved_index = dofs.free_slots, dofs.prescribed_slots
     size = model.element_size
     singular = False
-    translation = index % N_COLUMNS < 3
     factor: Factorisation | None = None
     forces = None  # the internal forces of the accepted trial, reused next iteration
     watchdog = Watchdog(run, equilibrium, solver.line_search, solver.update_turn)
@@ -357,6 +357,12 @@ def _iterate(
     floor: float | None = None
     probe = not model.interactions and run.dashpots is None
     alone = imposes_alone(model)
+
+    def resume(pushed: State):
+        """Newton from a saddle's push (solvers.saddles.judged), its steps turned downhill."""
+        more: list[float] = []
+        return _iterate(run, pushed, load_factor, max_iterations, frozen, more, escapes=escapes + 1)
+
     for iteration in range(1, allowed + 1):
         frames = dofs.frames(state.directors)
         if frozen:
@@ -377,8 +383,6 @@ def _iterate(
             raise IncrementFailed(
                 f"the residual ratio stayed above {STALLED_RATIO:g} for {window} iterations"
             )
-        tangent: tuple[Any, Any] | None = None  # (K_ff, K_fp) at ``state``, when assembled
-        modes: tuple[np.ndarray, np.ndarray] | None = None  # their lowest modes
         tol = solver.tol
         if probe and tol < ratio <= ROUND_OFF_GATE:
             if floor is None:
@@ -400,44 +404,21 @@ def _iterate(
                     state, frozen = model.thaw(state), False
                 continue
             state = unfrozen
-            run.refuse_inverted(state)  # before it is judged or pushed
-            # The stability of the converged state is its own tangent's: the one factorised on
-            # the way is an iterate's before it (StaticRun.factor_at).
-            factor = run.factor_at(state, factor)
-            negative = factor.negative or 0
-            if not (negative and solver.seek_stable and escapes < 3):
-                return run.settled(state, factor), iteration - 1, ratio, history
-            # A saddle: left along a negative mode where a push there, relaxed, lowers the
-            # energy and Newton converges from it; kept otherwise (solvers.stability).
-            k_ff = run.tangent(state, frames)[0]
-            modes = lowest_modes(k_ff, negative)
-            run.info["mode_searches"] += 1
-            load = equilibrium.load(frames).ravel()[index]
-            descent = push_descends(
-                run, state, frames, load, modes, translation, factor, equilibrium
-            )
-            if descent is not None:
-                escaped = _escape(run, descent[1], load_factor, max_iterations, frozen, escapes)
-                if escaped is not None:
-                    left_state, count, ratio_left, more = escaped
-                    return left_state, iteration - 1 + count, ratio_left, history + more
-            run.info["saddles_kept"].append(load_factor)
-            settled = run.settled(state, factor)
-            run.on_kept_saddle = True
-            return settled, iteration - 1, ratio, history
-        if tangent is None:
-            # Far from equilibrium the fibres' compression is left out of the fibrous tangent's
-            # stress terms (docs/theory.md §6.5); near it, and at every converged state whose
-            # stability is judged, the tangent is exact.
-            # The first iterate of an increment starts from a converged state (or a predictor
-            # of one): its fibres' compression is real, not a step's remainder, and there the
-            # exact tangent is kept (a corner lowered by 40 mm, benchmarks/static_solver.py
-            # line 1: 4-4-6-4 iterations with the compression-free tangent there, 4-4-4-4
-            # without).
-            slack = 0.0 < run.compression_free < ratio and iteration > 1
-            run.info["compression_free_tangents"] += int(slack)
-            tangent = run.tangent(state, frames, slack)
-        k_ff, k_fp = tangent
+            state, escape = judged(run, equilibrium, state, factor, load_factor, escapes, resume)
+            if escape is None:
+                return state, iteration - 1, ratio, history
+            return state, iteration - 1 + escape[0], escape[1], history + escape[2]
+        # Far from equilibrium the fibres' compression is left out of the fibrous tangent's
+        # stress terms (docs/theory.md §6.5); near it, and at every converged state whose
+        # stability is judged, the tangent is exact.
+        # The first iterate of an increment starts from a converged state (or a predictor
+        # of one): its fibres' compression is real, not a step's remainder, and there the
+        # exact tangent is kept (a corner lowered by 40 mm, benchmarks/static_solver.py
+        # line 1: 4-4-6-4 iterations with the compression-free tangent there, 4-4-4-4
+        # without).
+        slack = 0.0 < run.compression_free < ratio and iteration > 1
+        run.info["compression_free_tangents"] += int(slack)
+        k_ff, k_fp = run.tangent(state, frames, slack)
         rhs = r.ravel()[index]
         if moved_index.size:
             rhs = rhs - k_fp @ left.ravel()[moved_index]
@@ -507,10 +488,9 @@ def _iterate(
         if turned:
             # More negative modes than downhill turns: the shifted tangent's step (inertia).
             shifted = convexified_step(run, k_ff, rhs, factor.negative, delta_free)
-            if shifted is None:
-                if modes is None:  # shift-invert with the factorisation just made
-                    modes = lowest_modes(k_ff, factor.negative, factor.inverse())
-                    run.info["mode_searches"] += 1
+            if shifted is None:  # shift-invert with the factorisation just made
+                modes = lowest_modes(k_ff, factor.negative, factor.inverse())
+                run.info["mode_searches"] += 1
                 shifted = downhill(k_ff, rhs, delta_free, factor.negative, modes)
             delta_free = shifted
         flat = left.ravel().copy()
@@ -570,7 +550,12 @@ def _iterate(
                 _, ratio, forces = equilibrium.residual(state, frames)
             history.append(ratio)
             if unfrozen is not None:
-                return run.settled(unfrozen, factor), iteration, ratio, history
+                unfrozen, escape = judged(
+                    run, equilibrium, unfrozen, factor, load_factor, escapes, resume
+                )
+                if escape is None:
+                    return unfrozen, iteration, ratio, history
+                return unfrozen, iteration + escape[0], escape[1], history + escape[2]
             updates += 1
             near = ratio < history[1]
             state, forces, watchdog = refreeze(run, equilibrium, start, state, near)
@@ -585,36 +570,6 @@ def _iterate(
         f"residual ratio {history[-1]:.3g} after {allowed} iterations"
         + (f"; the tangent was singular: {mechanism(model)}" if singular else "")
     )
-
-
-def _escape(
-    run: StaticRun,
-    pushed: State,
-    load_factor: float,
-    max_iterations: int | None,
-    frozen: bool,
-    escapes: int,
-):
-    """Newton from ``pushed``, a saddle's push that lowers the energy
-    (solvers.stability.push_descends), its steps turned downhill: the ``_iterate`` result, or
-    None when it fails (the saddle is then kept: a push may find a descent where no lower
-    branch is within Newton's reach), except where it converged with cells turned inside out
-    (TurnedInsideOut: the increment is cut, shorter increments find the branch)."""
-    more: list[float] = []
-    try:
-        left = _iterate(run, pushed, load_factor, max_iterations, frozen, more, escapes=escapes + 1)
-    except TurnedInsideOut:
-        raise  # no saddle is kept for it: the increment is cut
-    except IncrementFailed as failure:
-        run.info["escapes_failed"].append(load_factor)
-        run.progress(f"load factor {load_factor:.4g}: no way off the saddle ({failure})")
-        return None
-    run.info["branch_switches"].append(load_factor)
-    run.progress(
-        f"load factor {load_factor:.4g}: unstable equilibrium, left along the buckling mode",
-        force=True,
-    )
-    return left
 
 
 def refreeze(run: StaticRun, equilibrium: Residual, start: State, state: State, near: bool = False):

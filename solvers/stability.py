@@ -7,15 +7,16 @@ keeps the count of each frame). A non-zero count is an unstable equilibrium: a c
 plate that stayed flat, the part of a path beyond a limit point. Two ways off it:
 
 - ``downhill``: a Newton step on an indefinite tangent heads for the nearest equilibrium,
-  stable or not; its components along the negative modes are turned downhill, and a converged
-  saddle is pushed by half an element along its mode (the load path);
+  stable or not; its components along the negative modes are turned downhill (the load path;
+  a converged saddle is pushed along its mode by ``push_descends``, solvers/saddles.py);
 - ``buckling_mode``: where the count grows while the load still rises, the lowest negative
   mode, if it is a bifurcation mode (not driven by the load, not along the path), is where the
   next arc-length increment starts.
 
 Both use the lowest modes of the symmetric part of K_ff (``lowest_modes``). A converged saddle
-is left only when a push along one of its negative modes is a descent (``push_descends``): the
-total potential energy evaluated at the pushed state is lower by more than round-off. A
+is left only when a push along one of its negative modes, relaxed with its amplitude held, is a
+descent (``push_descends``): the total potential energy evaluated at the pushed state is lower
+by more than round-off. A
 negative second variation says that the energy falls along the mode for small enough
 amplitudes; where the quartic terms take over within a fraction of the push (a flat sheet
 whose fibres in tension stiffen any out-of-plane motion within a thousandth of an element), the

@@ -103,7 +103,7 @@ class StaticRun:
         self.progress = ProgressLine(resolve_progress(solver.progress), "static")
         self.negative: int | None = 0
         # The last converged state is a saddle that no push along its negative modes descends
-        # from (solvers.stability.push_descends): the next increment follows it by plain Newton.
+        # from (solvers.saddles.judged): the next increment follows it by plain Newton.
         self.on_kept_saddle = False
         self.mode: Motion | None = None  # the next arc-length increment starts along it
         self.last_motion: tuple[int, float, Motion] | None = None  # (phase, lambda, motion)
