@@ -120,8 +120,9 @@ def push_descends(
     the total potential is W(pushed) - W(state) - load . (the pushed state's generalised
     motion), the dead loads' work along the straight push and the relaxation's updates
     (prescribed DOFs held). Round-off: 1e-10 of the strain energies, as in the line search.
-    A mode with no translation is taken as a descent at PUSH, straight (nothing to measure it
-    by).
+    A mode with no translation (the directors' alone, every translation held) is no descent:
+    nothing sizes a push along it, and Newton from the saddle itself, its steps turned
+    downhill, does not leave it (its residual is zero there).
 
     run : the StaticRun; state : the converged state; frames : its nodal frames; load :
     (n_free,) the external load on the free DOFs, N and N mm; modes : (eigenvalues (k,),
@@ -137,10 +138,8 @@ def push_descends(
         if value >= 0.0:
             continue
         reach = np.abs(phi[translation]).max(initial=0.0)
-        if reach <= 0.0:
-            flat = np.zeros(dofs.n_slots)
-            flat[dofs.free_slots] = PUSH * model.element_size * phi
-            return PUSH, dofs.advance(state, flat.reshape(-1, N_COLUMNS), frames)
+        if reach <= 0.0:  # nothing to size a push by (module docstring of push_descends)
+            continue
         fraction = PUSH
         while fraction >= SHORTEST_PUSH:
             amplitude = fraction * model.element_size / reach
