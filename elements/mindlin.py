@@ -25,7 +25,7 @@ import numpy as np
 
 from elements import kernels
 from elements.base import CellTangent, ElementBlock, ElementType, check_positive, local_tangent
-from elements.mindlin_folds import warn_folds
+from elements.mindlin_folds import turned_inside_out, warn_folds
 from elements.mindlin_steps import cell_stable_dt, cheap_omega2, element_omega2, penalty_stable_dt
 from elements.mindlin_tables import (
     _IN_PLANE,
@@ -701,6 +701,12 @@ class MindlinShellBlock(ElementBlock):
         return penalty_stable_dt(self, state)
 
     # ------------------------------------------------------------------ outputs
+    def inverted_cells(self, state: State) -> np.ndarray:
+        """The cells with a corner's director at or past 90 deg from their normal
+        (elements.mindlin_folds.turned_inside_out)."""
+        flipped = turned_inside_out(state.positions, self.connectivity, state.directors)
+        return self.cell_ids[flipped]
+
     def cell_fields(self, state: State, history=None) -> dict[str, np.ndarray]:
         """Section forces per unit length in the lamina frame, averaged over the element:
         membrane (N11, N22, N12) N/mm, bending (M11, M22, M12) N mm/mm, shear (Q1, Q2) N/mm.

@@ -20,7 +20,7 @@ import numpy as np
 
 from femcore.topology import build_topology
 
-__all__ = ["FOLD_TILT_DEG", "director_tilt", "fold_angle", "warn_folds"]
+__all__ = ["FOLD_TILT_DEG", "director_tilt", "fold_angle", "turned_inside_out", "warn_folds"]
 
 #: The director's tilt from a cell's normal, deg, beyond which MindlinShell warns. Measured on
 #: the L cantilever of docs/theory.md §5.9 (a strip two cells wide, whose area-weighted
@@ -54,6 +54,18 @@ def director_tilt(
         of theta with area-weighted nodal directors.
     """
     return _degrees(_corner_cosines(points, connectivity, directors))
+
+
+def turned_inside_out(
+    points: np.ndarray, connectivity: np.ndarray, directors: np.ndarray
+) -> np.ndarray:
+    """(m,) bool: a corner's director at or past 90 deg from the cell's normal, where the
+    fibre x + zeta V through the thickness leaves the cell on the side its normal does not
+    point to: the shell's volume at that corner is turned inside out (det of the shell's
+    deformation gradient through zero; a fold warns from FOLD_TILT_DEG on, ``warn_folds``).
+    Its membrane strain, the change of the metric, cannot see it: a cell mirrored onto
+    itself keeps its metric. Same arguments as ``director_tilt``."""
+    return np.any(_corner_cosines(points, connectivity, directors) <= 0.0, axis=1)
 
 
 def _degrees(cosine: np.ndarray) -> np.ndarray:

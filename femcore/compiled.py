@@ -399,6 +399,12 @@ class CompiledModel(CompiledTangent):
         (docs/theory.md §6.2, "The penalty's step")."""
         return float(min(block.penalty_stable_dt(state) for block in self.blocks))
 
+    def inverted_cells(self, state: State) -> np.ndarray:
+        """(k,) int, the mesh cells turned inside out at ``state``, over the blocks
+        (``ElementBlock.inverted_cells``), ascending."""
+        found = [block.inverted_cells(state) for block in self.blocks]
+        return np.unique(np.concatenate(found)) if found else np.zeros(0, dtype=np.int64)
+
     def strain_energy(self, state: State) -> float:
         """Total strain energy (N mm) over all parts (the interactions' penalty springs
         included)."""

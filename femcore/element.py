@@ -274,6 +274,14 @@ class ElementBlock(ReadOnlyState, ABC):
             "fibre_strain_gradient: give both, or neither"
         )
 
+    def inverted_cells(self, state: State) -> np.ndarray:
+        """(k,) int, the mesh cells (of ``cell_ids``) turned inside out at ``state``: their
+        material's volume ratio is not positive, an unphysical state some energies cannot
+        tell (a Saint Venant-Kirchhoff membrane mirrored onto itself is unstrained); the
+        static solver refuses a converged increment that has one (solvers/static_run.py).
+        The default, none: the block's energy sees no such state, or it cannot tell."""
+        return np.zeros(0, dtype=np.int64)
+
     def apply_supports(self, held: np.ndarray, constrained: np.ndarray | None = None) -> None:
         """Learn which nodes the model's supports hold; the default ignores it.
 

@@ -24,6 +24,7 @@ __all__ = [
     "ProgressLine",
     "SolverError",
     "StepTooLong",
+    "TurnedInsideOut",
     "check_flag",
     "check_fraction",
     "check_held",
@@ -91,6 +92,12 @@ class StepTooLong(IncrementFailed):
     def __init__(self, turn: float):
         super().__init__(f"the first Newton step turns a director by {turn:.3g} rad")
         self.turn = turn
+
+
+class TurnedInsideOut(IncrementFailed):
+    """An increment that converged with cells turned inside out
+    (``CompiledModel.inverted_cells``): cut, never kept (solvers/static_run.py
+    ``StaticRun.refuse_inverted``)."""
 
 
 def check_held(model: CompiledModel, swings: bool = False) -> None:

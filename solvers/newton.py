@@ -97,7 +97,7 @@ the residual's rounding at the iterate (solvers.round_off).
 from __future__ import annotations
 
 from dataclasses import replace
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
 
 import numpy as np
 import scipy.sparse as sp
@@ -117,8 +117,9 @@ from solvers.linear import Factorisation
 from solvers.newton_chords import chord_corrections
 from solvers.newton_curvature import curved_step
 from solvers.round_off import FLOOR_FACTOR, ROUND_OFF_GATE, round_off_ratio
+from solvers.saddles import judged
 from solvers.stabilisation import Dashpots
-from solvers.stability import downhill, lowest_modes, push_descends
+from solvers.stability import downhill, lowest_modes
 
 if TYPE_CHECKING:
     from solvers.static import StaticRun
@@ -193,9 +194,7 @@ def newton(
         # (``unilateral_fallback = False``: the ply contact's active set, whose unilateral law
         # is the plain penalty; elements/ply_active_set.py).
         if not any(
-            part.unilateral_fallback
-            for part in run.model.interactions
-            if part.keeps_contact_sets
+            part.unilateral_fallback for part in run.model.interactions if part.keeps_contact_sets
         ):
             raise
         run.info["contact_set_fallbacks"] += 1
@@ -328,10 +327,12 @@ def _iterate(
     history: list[float],
     turn_limit: float | None = None,
     alone_first: bool = False,
+    escapes: int = 0,
 ):
     """The Newton iterations of ``newton``; ``history`` receives the residual ratios.
     ``alone_first``: the increment's prescribed motion applied alone at the first iteration
-    whatever its first step turns (``_newton``'s retry)."""
+    whatever its first step turns (``_newton``'s retry). ``escapes``: the saddles of this
+    increment ``state`` was pushed off so far (``_escape``); its steps are turned downhill."""
     solver = run.solver
     model = run.model
     dofs = model.dofs
@@ -339,8 +340,6 @@ def _iterate(
     index, moved_index = dofs.free_slots, dofs.prescribed_slots
     size = model.element_size
     singular = False
-    escapes = 0
-    translation = index % N_COLUMNS < 3
     factor: Factorisation | None = None
     forces = None  # the internal forces of the accepted trial, reused next iteration
     watchdog = Watchdog(run, equilibrium, solver.line_search, solver.update_turn)
@@ -358,6 +357,12 @@ def _iterate(
     floor: float | None = None
     probe = not model.interactions and run.dashpots is None
     alone = imposes_alone(model)
+
+    def resume(pushed: State):
+        """Newton from a saddle's push (solvers.saddles.judged), its steps turned downhill."""
+        more: list[float] = []
+        return _iterate(run, pushed, load_factor, max_iterations, frozen, more, escapes=escapes + 1)
+
     for iteration in range(1, allowed + 1):
         frames = dofs.frames(state.directors)
         if frozen:
@@ -378,9 +383,6 @@ def _iterate(
             raise IncrementFailed(
                 f"the residual ratio stayed above {STALLED_RATIO:g} for {window} iterations"
             )
-        push = False
-        tangent: tuple[Any, Any] | None = None  # (K_ff, K_fp) at ``state``, when assembled
-        modes: tuple[np.ndarray, np.ndarray] | None = None  # their lowest modes
         tol = solver.tol
         if probe and tol < ratio <= ROUND_OFF_GATE:
             if floor is None:
@@ -402,47 +404,21 @@ def _iterate(
                     state, frozen = model.thaw(state), False
                 continue
             state = unfrozen
-            if factor is None:  # no factorisation yet: one for the stability report
-                factor = run.factorise(run.tangent(state, frames)[0])
-            negative = factor.negative or 0
-            if not (negative and solver.seek_stable and escapes < 3):
-                return run.settled(state, factor), iteration - 1, ratio, history
-            # A saddle that no push along its negative modes descends from stays: the
-            # quartic terms close the way off within a fraction of the push (solvers.stability).
-            tangent = run.tangent(state, frames)
-            modes = lowest_modes(tangent[0], negative)
-            run.info["mode_searches"] += 1
-            load = equilibrium.load(frames).ravel()[index]
-            if not push_descends(run, state, frames, load, modes, translation):
-                run.info["saddles_kept"].append(load_factor)
-                settled = run.settled(state, factor)
-                run.on_kept_saddle = True
-                return settled, iteration - 1, ratio, history
-            # An unstable equilibrium: leave it along its buckling mode.
-            escapes += 1
-            push = True
-            if frozen:  # the frozen sets change the tangent
-                state, _ = model.freeze(state)
-                tangent, modes = None, None
-            run.info["branch_switches"].append(load_factor)
-            run.progress(
-                f"load factor {load_factor:.4g}: unstable equilibrium, leaving it along "
-                "the buckling mode",
-                force=True,
-            )
-        if tangent is None:
-            # Far from equilibrium the fibres' compression is left out of the fibrous tangent's
-            # stress terms (docs/theory.md §6.5); near it, and at every converged state whose
-            # stability is judged, the tangent is exact.
-            # The first iterate of an increment starts from a converged state (or a predictor
-            # of one): its fibres' compression is real, not a step's remainder, and there the
-            # exact tangent is kept (a corner lowered by 40 mm, benchmarks/static_solver.py
-            # line 1: 4-4-6-4 iterations with the compression-free tangent there, 4-4-4-4
-            # without).
-            slack = 0.0 < run.compression_free < ratio and iteration > 1
-            run.info["compression_free_tangents"] += int(slack)
-            tangent = run.tangent(state, frames, slack)
-        k_ff, k_fp = tangent
+            state, escape = judged(run, equilibrium, state, factor, load_factor, escapes, resume)
+            if escape is None:
+                return state, iteration - 1, ratio, history
+            return state, iteration - 1 + escape[0], escape[1], history + escape[2]
+        # Far from equilibrium the fibres' compression is left out of the fibrous tangent's
+        # stress terms (docs/theory.md §6.5); near it, and at every converged state whose
+        # stability is judged, the tangent is exact.
+        # The first iterate of an increment starts from a converged state (or a predictor
+        # of one): its fibres' compression is real, not a step's remainder, and there the
+        # exact tangent is kept (a corner lowered by 40 mm, benchmarks/static_solver.py
+        # line 1: 4-4-6-4 iterations with the compression-free tangent there, 4-4-4-4
+        # without).
+        slack = 0.0 < run.compression_free < ratio and iteration > 1
+        run.info["compression_free_tangents"] += int(slack)
+        k_ff, k_fp = run.tangent(state, frames, slack)
         rhs = r.ravel()[index]
         if moved_index.size:
             rhs = rhs - k_fp @ left.ravel()[moved_index]
@@ -462,7 +438,7 @@ def _iterate(
             run.info["regularised_iterations"] += 1
             if delta_free is None:
                 raise IncrementFailed(f"singular tangent stiffness: {mechanism(model)}")
-        if alone and iteration == 1 and not push and np.abs(left).max(initial=0.0) > 0.0:
+        if alone and iteration == 1 and np.abs(left).max(initial=0.0) > 0.0:
             # The tangent of the converged state holds every touching point stuck, and its
             # linear step may take the prescribed motion up where the stick springs are softest:
             # a pulled ply's free directors turned 2 rad for 0.5 mm. Where it turns a director
@@ -511,17 +487,11 @@ def _iterate(
                 raise StepTooLong(first_turn)
         if turned:
             # More negative modes than downhill turns: the shifted tangent's step (inertia).
-            shifted = (
-                None if push else convexified_step(run, k_ff, rhs, factor.negative, delta_free)
-            )
-            load = equilibrium.load(frames).ravel()[index]
-            if shifted is None:
-                if modes is None:  # shift-invert with the factorisation just made
-                    modes = lowest_modes(k_ff, factor.negative, factor.inverse())
-                    run.info["mode_searches"] += 1
-                shifted = downhill(
-                    k_ff, rhs, delta_free, load, translation, size, push, factor.negative, modes
-                )
+            shifted = convexified_step(run, k_ff, rhs, factor.negative, delta_free)
+            if shifted is None:  # shift-invert with the factorisation just made
+                modes = lowest_modes(k_ff, factor.negative, factor.inverse())
+                run.info["mode_searches"] += 1
+                shifted = downhill(k_ff, rhs, delta_free, factor.negative, modes)
             delta_free = shifted
         flat = left.ravel().copy()
         flat[index] = delta_free
@@ -541,7 +511,7 @@ def _iterate(
         # The second-order term of a plain step on a definite tangent (solvers.newton_curvature);
         # the line search falls back along the straight step.
         straight = None
-        if solver.curved and curving and not (push or turn or regularised or factor.negative):
+        if solver.curved and curving and not (turn or regularised or factor.negative):
             curved = curved_step(run, equilibrium, state, frames, delta, r, factor)
             if curved is not None:
                 straight, delta = delta, curved
@@ -549,7 +519,7 @@ def _iterate(
         # Where the projected step fails, the line search backtracks along the Newton step
         # itself: a strip bending past the knee of a bilinear law (tests/test_compare.py)
         # stopped at load factor 0.3 when it backtracked along the projected one.
-        if run.fibres is not None and smooth and not push:
+        if run.fibres is not None and smooth:
             if straight is None:
                 straight = delta
             delta = run.fibres.project(run, state.positions, straight, delta)
@@ -557,13 +527,13 @@ def _iterate(
         # Every level's fibre strains and shear angles where the step's first order puts them,
         # at the least energy in the tangent (solvers.newton_levels).
         # Only on plain steps of a definite tangent, as the curved steps.
-        plain = not (push or imposing or turn or regularised or factor.negative)
+        plain = not (imposing or turn or regularised or factor.negative)
         if run.levels is not None and smooth and plain:
             if straight is None:
                 straight = delta
             delta = run.levels.project(run, state, frames, straight, delta, k_ff)
-        scale, state, forces = watchdog.step(state, frames, delta, r, push or imposing, straight)
-        if solver.chords and smooth and scale == 1.0 and not (push or imposing):
+        scale, state, forces = watchdog.step(state, frames, delta, r, imposing, straight)
+        if solver.chords and smooth and scale == 1.0 and not imposing:
             state, forces = chord_corrections(
                 run, equilibrium, watchdog, state, frames, forces, factor, solver.chords
             )
@@ -580,7 +550,12 @@ def _iterate(
                 _, ratio, forces = equilibrium.residual(state, frames)
             history.append(ratio)
             if unfrozen is not None:
-                return run.settled(unfrozen, factor), iteration, ratio, history
+                unfrozen, escape = judged(
+                    run, equilibrium, unfrozen, factor, load_factor, escapes, resume
+                )
+                if escape is None:
+                    return unfrozen, iteration, ratio, history
+                return unfrozen, iteration + escape[0], escape[1], history + escape[2]
             updates += 1
             near = ratio < history[1]
             state, forces, watchdog = refreeze(run, equilibrium, start, state, near)

@@ -7,15 +7,16 @@ keeps the count of each frame). A non-zero count is an unstable equilibrium: a c
 plate that stayed flat, the part of a path beyond a limit point. Two ways off it:
 
 - ``downhill``: a Newton step on an indefinite tangent heads for the nearest equilibrium,
-  stable or not; its components along the negative modes are turned downhill, and a converged
-  saddle is pushed by half an element along its mode (the load path);
+  stable or not; its components along the negative modes are turned downhill (the load path;
+  a converged saddle is pushed along its mode by ``push_descends``, solvers/saddles.py);
 - ``buckling_mode``: where the count grows while the load still rises, the lowest negative
   mode, if it is a bifurcation mode (not driven by the load, not along the path), is where the
   next arc-length increment starts.
 
 Both use the lowest modes of the symmetric part of K_ff (``lowest_modes``). A converged saddle
-is left only when a push along one of its negative modes is a descent (``push_descends``): the
-total potential energy evaluated at the pushed state is lower by more than round-off. A
+is left only when a push along one of its negative modes, relaxed with its amplitude held, is a
+descent (``push_descends``): the total potential energy evaluated at the pushed state is lower
+by more than round-off. A
 negative second variation says that the energy falls along the mode for small enough
 amplitudes; where the quartic terms take over within a fraction of the push (a flat sheet
 whose fibres in tension stiffen any out-of-plane motion within a thousandth of an element), the
@@ -32,12 +33,22 @@ import numpy as np
 from scipy.sparse.linalg import ArpackNoConvergence, LinearOperator, eigsh, splu
 
 from femcore.dofs import N_COLUMNS
+from solvers.common import IncrementFailed
 
 if TYPE_CHECKING:
     from solvers.arc_length import Motion
     from solvers.static import StaticRun
 
-__all__ = ["MODES", "PUSH", "buckling_mode", "downhill", "lowest_modes", "push_descends"]
+__all__ = [
+    "MODES",
+    "PUSH",
+    "PUSH_SHRINK",
+    "SHORTEST_PUSH",
+    "buckling_mode",
+    "downhill",
+    "lowest_modes",
+    "push_descends",
+]
 
 # The most modes a search returns (solvers.inertia shifts tangents with more negative ones).
 MODES = 6
@@ -53,25 +64,29 @@ PLAIN_RESTARTS = 50
 RITZ_TOL = 1e-8
 
 # The push off a converged saddle along its buckling mode: this fraction of the element size
-# for the largest translation of the mode.
+# for the largest translation of the mode, or PUSH_SHRINK times shorter each time while it is
+# no descent (``push_descends``), down to SHORTEST_PUSH. A saddle whose energy falls only
+# closer to it is kept: a flat fabric sheet sheared in its plane, whose energy falls along its
+# out-of-plane modes only within about 1e-3 of an element (docs/theory.md §6.5).
 PUSH = 0.5
+PUSH_SHRINK = 4.0
+SHORTEST_PUSH = 0.02
+# The Newton updates that relax a push with the mode's amplitude held (``push_descends``).
+RELAX_STEPS = 3
+RELAX_HALVINGS = 6
 
 
-def downhill(
-    k_ff, rhs, delta, load, translation, size, push, negative=None, modes=None
-) -> np.ndarray:
+def downhill(k_ff, rhs, delta, negative=None, modes=None) -> np.ndarray:
     """The Newton step with its components along the negative modes of K_ff turned downhill.
 
     A Newton step heads for the nearest equilibrium, stable or not. Along a mode phi with
     eigenvalue lambda < 0 (of the symmetric part), its component (phi . r) / lambda climbs
     the energy towards the saddle; the step is given the component (phi . r) / |lambda|
-    instead, at least half an element long when ``push`` (leaving a converged saddle), in the
-    direction where the external load does positive work (gravity picks the buckling side).
+    instead (leaving a converged saddle is ``push_descends``'s push).
 
-    k_ff : the tangent of the free DOFs; rhs, delta, load : (n_free,) the right-hand side, the
-    Newton step and the external load on the free DOFs; translation : (n_free,) bool, the
-    translation slots; size : the element size, mm; negative : the negative pivots of K_ff;
-    modes : (eigenvalues, eigenvectors) of ``lowest_modes`` already computed for K_ff.
+    k_ff : the tangent of the free DOFs; rhs, delta : (n_free,) the right-hand side and the
+    Newton step on the free DOFs; negative : the negative pivots of K_ff; modes :
+    (eigenvalues, eigenvectors) of ``lowest_modes`` already computed for K_ff.
     """
     values, vectors = lowest_modes(k_ff, negative) if modes is None else modes
     delta = delta.copy()
@@ -79,29 +94,41 @@ def downhill(
         if value >= 0.0:
             continue
         along = phi @ rhs
-        wanted = along / abs(value)
-        reach = np.abs(phi[translation]).max(initial=0.0)
-        if push and reach > 0.0 and abs(wanted) < PUSH * size / reach:
-            side = np.sign(phi @ load) or np.sign(along) or 1.0
-            wanted = side * PUSH * size / reach
-        delta += (wanted - phi @ delta) * phi
+        delta += (along / abs(value) - phi @ delta) * phi
     return delta
 
 
-def push_descends(run: StaticRun, state, frames, load, modes, translation) -> bool:
-    """Whether pushing the converged ``state`` along one of its negative modes lowers the total
-    potential energy by more than round-off.
+def push_descends(
+    run: StaticRun, state, frames, load, modes, translation, factor=None, equilibrium=None
+):
+    """The push off the converged ``state`` along one of its negative modes that lowers the
+    total potential energy by more than round-off: (its length as a fraction of the element
+    size for the mode's largest translation, the pushed state); None where none does.
 
-    Each mode phi with eigenvalue < 0 is tried on both sides, moved so that its largest
-    translation is PUSH elements (the push of ``downhill``); the change of the total potential
-    is W(pushed) - W(state) - load . (a phi), the dead loads' work along the straight push
+    Each mode phi with eigenvalue lambda < 0 is tried on both sides, moved so that its largest
+    translation is PUSH elements, then PUSH_SHRINK times shorter each time down to
+    SHORTEST_PUSH elements. A straight push a phi along a mode that turns cells stretches them
+    at second order in a, so the energy change is lambda a^2 / 2 only while that stretch costs
+    less: an Euler strip clamped at one end under 1.5 times its buckling load (lambda =
+    -0.0065) gains 6.3 N mm at the half-element push (2.5 mm) and loses 1.5e-3 at 0.3 mm, and
+    a fibrous one, its fibres 1e4 times stiffer than its bending, gains at every push longer
+    than a fiftieth of an element. So with ``factor`` (the LDL^T of K_ff at ``state``) and
+    ``equilibrium`` (its Residual), the pushed state is first relaxed with the mode's amplitude
+    held: RELAX_STEPS updates K_ff x = r - (phi . r) phi, each x taken orthogonal to phi (the
+    second-order field of Koiter's expansion, here by Newton updates on the pushed state's
+    residual), which turns the straight push into one along the buckled shape. The change of
+    the total potential is W(pushed) - W(state) - load . (the pushed state's generalised
+    motion), the dead loads' work along the straight push and the relaxation's updates
     (prescribed DOFs held). Round-off: 1e-10 of the strain energies, as in the line search.
-    A mode with no translation is taken as a descent (nothing to measure it by; ``downhill``
-    does not push it).
+    A mode with no translation (the directors' alone, every translation held) is no descent:
+    nothing sizes a push along it, and Newton from the saddle itself, its steps turned
+    downhill, does not leave it (its residual is zero there).
 
     run : the StaticRun; state : the converged state; frames : its nodal frames; load :
     (n_free,) the external load on the free DOFs, N and N mm; modes : (eigenvalues (k,),
-    unit eigenvectors (n_free, k)) of ``lowest_modes``; translation : (n_free,) bool.
+    unit eigenvectors (n_free, k)) of ``lowest_modes``; translation : (n_free,) bool;
+    factor : solvers.linear.Factorisation of K_ff at ``state`` or None (straight pushes);
+    equilibrium : solvers.newton.Residual at the state's load factor, or None.
     """
     model = run.model
     dofs = model.dofs
@@ -111,18 +138,60 @@ def push_descends(run: StaticRun, state, frames, load, modes, translation) -> bo
         if value >= 0.0:
             continue
         reach = np.abs(phi[translation]).max(initial=0.0)
-        if reach <= 0.0:
-            return True
-        amplitude = PUSH * model.element_size / reach
-        for side in (1.0, -1.0):
+        if reach <= 0.0:  # nothing to size a push by (module docstring of push_descends)
+            continue
+        fraction = PUSH
+        while fraction >= SHORTEST_PUSH:
+            amplitude = fraction * model.element_size / reach
+            for side in (1.0, -1.0):
+                flat = np.zeros(dofs.n_slots)
+                flat[dofs.free_slots] = side * amplitude * phi
+                pushed = dofs.advance(state, flat.reshape(-1, N_COLUMNS), frames)
+                moved = side * amplitude * phi
+                if factor is not None and equilibrium is not None:
+                    pushed, relaxed = _relax(run, equilibrium, pushed, phi, factor, load)
+                    moved = moved + relaxed
+                after = run.energy(pushed)
+                change = after - before - float(moved @ load)
+                if change < -1e-10 * (abs(before) + abs(after)):
+                    return fraction, pushed
+            fraction /= PUSH_SHRINK
+    return None
+
+
+def _relax(run: StaticRun, equilibrium, pushed, phi, factor, load):
+    """(``pushed`` after at most RELAX_STEPS Newton updates on the DOFs orthogonal to the mode
+    phi, (n_free,) the sum of the updates taken). An update is taken only where it lowers the
+    total potential (halved up to RELAX_HALVINGS times): on a tangent with other soft modes
+    (a fibrous shell's free directors) the full update can overshoot by orders of magnitude."""
+    dofs = run.model.dofs
+    index = dofs.free_slots
+    moved = np.zeros(index.size)
+    energy = run.energy(pushed)
+    for _ in range(RELAX_STEPS):
+        frames = dofs.frames(pushed.directors)
+        try:
+            r, _, _ = equilibrium.residual(pushed, frames)
+        except IncrementFailed:
+            break
+        rhs = r.ravel()[index]
+        rhs = rhs - (phi @ rhs) * phi
+        update = factor.solve(rhs)
+        if update is None or not np.all(np.isfinite(update)):
+            break
+        update = update - (phi @ update) * phi
+        for _ in range(RELAX_HALVINGS + 1):
             flat = np.zeros(dofs.n_slots)
-            flat[dofs.free_slots] = side * amplitude * phi
-            pushed = dofs.advance(state, flat.reshape(-1, N_COLUMNS), frames)
-            after = run.energy(pushed)
-            change = after - before - side * amplitude * float(phi @ load)
-            if change < -1e-10 * (abs(before) + abs(after)):
-                return True
-    return False
+            flat[index] = update
+            trial = dofs.advance(pushed, flat.reshape(-1, N_COLUMNS), frames)
+            trial_energy = run.energy(trial)
+            if trial_energy - float(update @ load) < energy:
+                break
+            update = 0.5 * update
+        else:
+            break
+        pushed, energy, moved = trial, trial_energy - float(update @ load), moved + update
+    return pushed, moved
 
 
 def lowest_modes(k_ff, negative: int | None = None, inverse=None) -> tuple[np.ndarray, np.ndarray]:
@@ -247,9 +316,12 @@ def buckling_mode(run: StaticRun, pattern, previous: Motion | None = None) -> Mo
     drive, _ = run.load_rate(pattern, frames, k_fp)
     if abs(phi @ drive) > 0.1 * np.linalg.norm(drive):
         return None
-    load = run.equilibrium(run.reached).load(frames).ravel()[dofs.free_slots]
+    equilibrium = run.equilibrium(run.reached)
+    load = equilibrium.load(frames).ravel()[dofs.free_slots]
     chosen = (values[negative][-1:], phi[:, None])
-    if not push_descends(run, state, frames, load, chosen, dofs.free_slots % N_COLUMNS < 3):
+    translation = dofs.free_slots % N_COLUMNS < 3
+    factor = run.factorise(k_ff)
+    if not push_descends(run, state, frames, load, chosen, translation, factor, equilibrium):
         return None  # a saddle no push descends from (push_descends): the path goes on
     side = np.sign(phi @ load) or 1.0
     flat = np.zeros(dofs.n_slots)

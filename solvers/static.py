@@ -139,18 +139,22 @@ class Static:
         equilibrium: a compressed plate that stayed flat), leave it along its lowest mode and
         settle on the stable branch. Load path: the Newton steps that meet an indefinite
         tangent are turned downhill along its negative modes (a "saddle-free" step) and a
-        converged saddle is pushed by half an element along its mode, up to three times per
-        increment; the stable branch beyond a snap-through is then found (the jump a
-        quasi-static test shows), not the unstable part of the path. Arc-length path: where
-        the count of negative eigenvalues grows while the load keeps its direction (a
-        bifurcation, not a limit point), the next increment starts along the buckling mode
-        (up to three times per phase). Each switch is listed in ``info["branch_switches"]``,
-        the eigen-solves of the load path (turns and saddles) counted in
-        ``info["mode_searches"]``.
-        Either way a mode is followed only when a push of half an element along it lowers the
-        total potential energy beyond round-off (solvers.stability.push_descends); a saddle
-        that no push descends from is kept (``info["saddles_kept"]``, load path) and the next
-        increment follows it by plain Newton: a flat fabric sheared in its plane stays flat.
+        converged saddle is pushed along its mode and Newton goes on from there, up to three
+        times per increment; the stable branch beyond a snap-through or a bifurcation is then
+        found (the jump a quasi-static test shows), not the unstable part of the path.
+        Arc-length path: where the count of negative eigenvalues grows while the load keeps its
+        direction (a bifurcation, not a limit point), the next increment starts along the
+        buckling mode (up to three times per phase). Each switch is listed in
+        ``info["branch_switches"]``, the eigen-solves of the load path (turns and saddles)
+        counted in ``info["mode_searches"]``.
+        Either way a mode is followed only when a push along it (half an element, or down to a
+        fiftieth of one, relaxed with its amplitude held) lowers the total potential energy
+        beyond round-off (solvers.stability.push_descends); a saddle that no push descends
+        from, or whose push Newton does not converge from (``info["escapes_failed"]``), is
+        kept (``info["saddles_kept"]``, load path) and the next increment follows it by plain
+        Newton: a flat fabric sheared in its plane stays flat. A converged state with cells
+        turned inside out (``CompiledModel.inverted_cells``) is refused: the increment is
+        cut, and a solve that runs out of cuts names the cells.
         A tangent with more negative eigenvalues than the six the downhill turn computes (a
         wrinkling flange) gets the step of K + delta diag|K| instead, the smallest delta
         leaving no negative pivot (solvers.inertia; every such step of a stabilised
@@ -248,16 +252,14 @@ class Static:
     "Prescribed motion against stuck points").
 
     Stability: every converged state gets the number of negative eigenvalues of the tangent
-    K_ff last factorised on its way (that of the iterate whose update reached it, a step the
-    residual tolerance away, or with ``arc_chords`` a few chord steps before it; a
-    fresh one only when the increment converged at its start),
-    counted from the pivots of its LDL^T (``info["negative_eigenvalues"]``, one entry per
-    frame after the first): an eigenvalue that crosses zero within that last step is counted
-    at the next increment, where a tangent at the converged state would cost one more
-    factorisation an increment. Load factors with a non-zero count (unstable equilibria, past a
-    limit point or a bifurcation) are listed in ``info["indefinite_at"]``. A singular tangent
-    is regularised for one update (see solvers.newton.newton) and reported if the increment
-    then fails.
+    K_ff at that state, counted from the pivots of its LDL^T (``info["negative_eigenvalues"]``,
+    one entry per frame after the first). Newton converges one update after its last
+    factorisation, so the tangent at the converged state is assembled and factorised once more
+    (``info["evaluations"]["stability_tangents"]``; StaticRun.factor_at), unless the last one
+    was made there (docs/theory.md §6.5, "The stability of a converged state"). Load factors
+    with a non-zero count (unstable equilibria, past a limit point or a bifurcation) are listed
+    in ``info["indefinite_at"]``. A singular tangent is regularised for one update (see
+    solvers.newton.newton) and reported if the increment then fails.
     """
 
     def __init__(

@@ -26,6 +26,7 @@ from solvers.arc_length import Motion
 from solvers.common import (
     ConvergenceError,
     ProgressLine,
+    TurnedInsideOut,
     empty_result,
     equilibrium_reactions,
     make_frame,
@@ -102,12 +103,16 @@ class StaticRun:
         self.progress = ProgressLine(resolve_progress(solver.progress), "static")
         self.negative: int | None = 0
         # The last converged state is a saddle that no push along its negative modes descends
-        # from (solvers.stability.push_descends): the next increment follows it by plain Newton.
+        # from (solvers.saddles.judged): the next increment follows it by plain Newton.
         self.on_kept_saddle = False
         self.mode: Motion | None = None  # the next arc-length increment starts along it
         self.last_motion: tuple[int, float, Motion] | None = None  # (phase, lambda, motion)
         self.phase = 0
-        self.counts = {"residual": 0, "energy": 0, "tangent": 0}
+        self.counts = {"residual": 0, "energy": 0, "tangent": 0, "stability_tangents": 0}
+        # (the state, K_ff) of the last exact tangent assembled, and (the state it was
+        # assembled at or None, the factorisation) of the last one factorised (``factor_at``).
+        self._assembled: tuple[State | None, Any] = (None, None)
+        self._factorised: tuple[State | None, Factorisation | None] = (None, None)
         # The viscous stabilisation (solvers.stabilisation): the masses once, the dashpots of
         # the increment being solved, and the energy they dissipated so far.
         self.dashpots: Dashpots | None = None
@@ -160,6 +165,7 @@ class StaticRun:
             "augmentations_short": [],
             "branch_switches": [],
             "saddles_kept": [],
+            "escapes_failed": [],
             "residual_history": [],
             "evaluations": self.counts,
         }
@@ -223,16 +229,42 @@ class StaticRun:
 
     def tangent(self, state: State, frames: Frames, compression_free: bool = False):
         """(K_ff, K_fp) at ``state``, the dashpots' diagonal added in a stabilised
-        increment; ``compression_free``: that of solvers.newton.Tangent."""
+        increment; ``compression_free``: that of solvers.newton.Tangent. Counted in
+        ``info["evaluations"]["tangent"]``; ``factor_at``'s in its "stability_tangents"."""
         self.counts["tangent"] += 1
+        return self._assemble(state, frames, compression_free)
+
+    def _assemble(self, state: State, frames: Frames, compression_free: bool = False):
         k_ff, k_fp = self._tangent(state, frames, compression_free)
         if self.dashpots is not None:
             diagonal = self.dashpots.diagonal(self.model.dofs.free_slots)
             k_ff = (k_ff + sp.diags(diagonal, format="csc")).tocsc()
+        # The exact tangent only is the state's own (``factor_at``).
+        self._assembled = (None if compression_free else state, k_ff)
         return k_ff, k_fp
 
     def factorise(self, k_ff) -> Factorisation:
-        return self.linear.factorise(k_ff)
+        factor = self.linear.factorise(k_ff)
+        state, assembled = self._assembled
+        self._factorised = (state if k_ff is assembled else None, factor)
+        return factor
+
+    def factor_at(self, state: State, factor: Factorisation | None = None) -> Factorisation:
+        """The factorisation of the exact tangent K_ff at ``state``: ``factor`` when it is the
+        last one made and was made there, else a new one (an assembly and a factorisation).
+
+        Newton converges one update after its last factorisation, so the tangent last
+        factorised on the way to a converged state is an iterate's before it: its inertia is
+        not the state's. A dead load past the Euler load of a strip that stays straight
+        converges in one update from the straight state of the increment before, whose
+        tangent has no negative pivot, and the count read there stayed 0 at every increment
+        (docs/theory.md §6.5, "The stability of a converged state")."""
+        made_at, last = self._factorised
+        if factor is not None and factor is last and made_at is state:
+            return factor
+        self.counts["stability_tangents"] += 1
+        frames = self.model.dofs.frames(state.directors)
+        return self.factorise(self._assemble(state, frames)[0])
 
     # ------------------------------------------------------------------ configurations
     def place(self, state: State, load_factor: float) -> State:
@@ -339,10 +371,29 @@ class StaticRun:
         return drive, rate.ravel()
 
     # ------------------------------------------------------------------ bookkeeping
-    def settled(self, state: State, factor: Factorisation) -> State:
-        """A converged state: note the inertia of ``factor``, the tangent last factorised on
-        the way to it (the class docstring's Stability)."""
-        self.negative = factor.negative
+    def refuse_inverted(self, state: State) -> None:
+        """Raise IncrementFailed (the increment is cut) where a converged ``state`` has cells
+        turned inside out (``CompiledModel.inverted_cells``): an equilibrium of the discrete
+        energy that no material reaches. A clamped strip of 20 x 1 Mindlin elements shortened by
+        20 mm in 10 increments was returned with elements 10-13 run backwards over each
+        other, their directors 180 deg from their normals, the tip 36.86 mm off the axis
+        against the elastica's 53.26 (docs/theory.md §6.5, "The stability of a converged
+        state")."""
+        inverted = self.model.inverted_cells(state)
+        if inverted.size:
+            shown = ", ".join(str(cell) for cell in inverted[:10])
+            more = f" and {inverted.size - 10} more" if inverted.size > 10 else ""
+            raise TurnedInsideOut(
+                f"converged with cells turned inside out (a director at or past 90 deg from "
+                f"its cell's normal): cells {shown}{more}"
+            )
+
+    def settled(self, state: State, factor: Factorisation | None) -> State:
+        """A converged state: refused where it has cells turned inside out
+        (``refuse_inverted``); note the inertia of the tangent at ``state`` (``factor`` when it
+        was factorised there, ``factor_at``; the class docstring's Stability)."""
+        self.refuse_inverted(state)
+        self.negative = self.factor_at(state, factor).negative
         self.on_kept_saddle = False
         return state
 

@@ -85,6 +85,50 @@ def tip_loaded_cantilever(length: float, load: float, bending_stiffness: float, 
     )
 
 
+def euler_cantilever(
+    length: float, bending_stiffness: float, load: float | None = None, shortening=None
+) -> dict:
+    """The post-buckled Euler column clamped at one end, free at the other (the elastica of a
+    dead axial end load P; Timoshenko & Gere, Theory of Elastic Stability, 2nd ed. (1961)
+    §2.7), given the load or the end shortening.
+
+    With k = sin(alpha / 2) (alpha the end's slope) and K(k), E(k) the complete elliptic
+    integrals of the first and second kinds, L sqrt(P / EI) = K(k): P / P_cr = (2 K / pi)^2
+    with P_cr = pi^2 EI / (4 L^2); the free end moves 2 k L / K sideways and lies
+    L (2 E / K - 1) from the clamp along the load.
+
+    length : L, mm; bending_stiffness : EI, N mm^2; load : P, N (above P_cr); shortening :
+    L minus the free end's distance from the clamp along the load, mm (in (0, 2 L)): give one.
+    Returns load, critical_load, modulus (k), tip_lateral, tip_axial (the end's distance from
+    the clamp along the load), mm and N.
+    """
+    from scipy.special import ellipe, ellipk  # modulus squared m = k^2
+
+    critical = np.pi**2 * bending_stiffness / (4.0 * length**2)
+    if (load is None) == (shortening is None):
+        raise ValueError("euler_cantilever takes either load or shortening")
+    if load is not None:
+        if not load > critical:
+            raise ValueError(f"load {load!r} N must exceed the Euler load {critical:.6g} N")
+        wanted = np.pi / 2.0 * np.sqrt(load / critical)  # K(k)
+        modulus = brentq(lambda k: ellipk(k * k) - wanted, 0.0, 1.0 - 1e-15)
+    else:
+        if not 0.0 < shortening < 2.0 * length:
+            raise ValueError(f"shortening {shortening!r} mm must lie in (0, 2 L = {2 * length})")
+        ratio = 1.0 - shortening / length
+        modulus = brentq(
+            lambda k: 2.0 * ellipe(k * k) / ellipk(k * k) - 1.0 - ratio, 1e-12, 1.0 - 1e-15
+        )
+    first, second = ellipk(modulus**2), ellipe(modulus**2)
+    return {
+        "load": critical * (2.0 * first / np.pi) ** 2,
+        "critical_load": critical,
+        "modulus": modulus,
+        "tip_lateral": 2.0 * modulus * length / first,
+        "tip_axial": length * (2.0 * second / first - 1.0),
+    }
+
+
 def heavy_strip_over_cylinder(
     half_length: float,
     weight: float,
