@@ -113,11 +113,9 @@ class RigidAnnulus(RigidTool):
         return d, n
 
     def projector_scale(self, x: np.ndarray, load_factor: float = 0.0) -> np.ndarray:
-        """0 on the face (a plane); in front of the bore 1 / the distance to the edge, the
-        edge taken as a point (the Newton tangent's curvature term only: the circle's own
-        direction is left in it, which slows Newton's convergence near the edge, not its
-        result); at the bore's wall -1 / radius (a concave cylinder seen from its axis side,
-        ``normal_gradient`` takes its axis out)."""
+        """0 on the face (a plane); in front of the bore 1 / the distance to the edge's circle;
+        at the bore's wall -1 / radius (a concave cylinder seen from its axis side); the
+        factor c of ``normal_gradient``."""
         height, _, length = self._parts(x, load_factor)
         at_edge, at_wall = self._regions(height, length)
         distance = np.hypot(length - self.inner, height)
@@ -130,13 +128,20 @@ class RigidAnnulus(RigidTool):
     def normal_gradient(
         self, x: np.ndarray, normal: np.ndarray, load_factor: float = 0.0
     ) -> np.ndarray:
-        """(k, 3, 3) dn/dx at the points x (k, 3) with their normals (k, 3): c (I - n n^T) of
-        ``projector_scale``, less c a a^T at the bore's wall (a the ring's axis, along which
-        the wall's normal does not turn)."""
-        height, _, length = self._parts(x, load_factor)
-        _, at_wall = self._regions(height, length)
+        """(k, 3, 3) dn/dx at the points x (k, 3) with their normals (k, 3), c of
+        ``projector_scale``: on the face 0; at the bore's wall c (I - n n^T - a a^T) (a the
+        ring's axis, along which the wall's normal does not turn); in front of the bore, where
+        n = (x - p) / d from the edge circle's nearest point p = inner e_r, which turns with
+        the point's azimuth, (I - n n^T)(I - dp/dx) / d = c (I - n n^T - (inner / r) t t^T),
+        t = a x e_r the circle's direction at p (on the axis, r = 0, p is any point of the
+        circle and the term is left out: the circle is then inner away)."""
+        height, outward, length = self._parts(x, load_factor)
+        at_edge, at_wall = self._regions(height, length)
         across = np.eye(3) - normal[:, :, None] * normal[:, None, :]
         across = across - at_wall[:, None, None] * np.outer(self.normal, self.normal)
+        along = np.cross(self.normal, outward)  # the circle's direction at p (k, 3)
+        turn = np.where(at_edge & (length > 0.0), self.inner / np.where(length > 0, length, 1), 0)
+        across = across - turn[:, None, None] * along[:, :, None] * along[:, None, :]
         return self.projector_scale(x, load_factor)[:, None, None] * across
 
     def side_hint(self) -> str:

@@ -76,8 +76,8 @@ class Static:
         increments of load (solvers.arc_step, docs/theory.md §6.6 "Step length").
     tol : convergence when ||r_forces|| <= tol F_ref and ||r_moments|| <= tol F_ref L_e (or,
         at the round-off floor, when a full Newton step moves no DOF by more than 1e-9 of an
-        element or 1e-9 rad while the ratio is below 1e-3, or, on the load path (not in the
-        arc-length steps) without interactions and stabilisation, when the ratio is at most
+        element or 1e-9 rad while the ratio is below 1e-3, or, on the load path and in the
+        arc-length corrector, without interactions and stabilisation, when the ratio is at most
         10 times the rounding of the residual that a rigid translation of the iterate shows,
         and at most 1e-6: solvers.round_off), with
         F_ref = max(||F_ext||, ||F_int||, ||M_ext|| / L_e, ||M_int|| / L_e) (the internal

@@ -96,13 +96,22 @@ def test_a_point_on_the_axis_is_as_far_as_the_edge_circle():
 
 @pytest.mark.parametrize(
     "point",
-    [(15.0, 2.0, 0.7), (6.0, -3.0, -1.5), (8.0, 8.0, -0.2), (12.0, 0.5, -3.0)],
-    ids=["face", "wall", "inside-near-wall", "inside-near-face"],
+    [
+        (15.0, 2.0, 0.7),
+        (6.0, -3.0, -1.5),
+        (8.0, 8.0, -0.2),
+        (12.0, 0.5, -3.0),
+        (10.8, 0.0, 0.2),
+        (6.0, 7.0, 2.5),
+    ],
+    ids=["face", "wall", "inside-near-wall", "inside-near-face", "edge-near", "edge-far"],
 )
 def test_the_normals_gradient_is_its_derivative(point):
     """dn/dx (``normal_gradient``) against central differences of n (step 1e-6 mm, error
     about step^2 / radius^3, under 1e-8) where n is smooth: the face, the bore's wall (a
-    concave cylinder: -(I - n n - a a) / radius), and inside the solid by either part."""
+    concave cylinder: -(I - n n - a a) / radius), inside the solid by either part, and in
+    front of the bore, where the edge circle's nearest point turns with the point (the edge
+    taken as a point before, (I - n n) / d: off by 3.6 per mm at d = 0.28 mm)."""
     x = np.array([point])
     _, n = DIE.distance(x)
     gradient = DIE.normal_gradient(x, n)[0]
@@ -171,7 +180,7 @@ motion = [0.0, 0.0, -4.0]
 amplitude = "smooth"
 [solver]
 kind = "explicit"
-duration = 0.04
+duration = 0.08
 damping = 20.0
 [output]
 history = { displacements = ["pole"] }
