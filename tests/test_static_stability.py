@@ -80,6 +80,23 @@ def test_the_default_static_leaves_the_straight_saddle_for_the_elastica(ratio):
     assert result.info["negative_eigenvalues"][-1] == 0
 
 
+def test_the_arc_length_leaves_the_straight_saddle_for_the_elastica_too():
+    # The perfect strip under 1.5 P_cr along the arc length (5 increments): it switches to
+    # the post-buckled branch at the saddle past P_cr and then follows that softer branch to
+    # the end, its steps no longer held to the first, stiff step's length (solvers/
+    # arc_step.py): the straight strip was returned as converged, then (the push finding the
+    # descent, the steps still capped) the run crawled in steps of about 1e-3 mm and stopped.
+    # The same bounds as the load path's (the discretisation at 20 cells).
+    model, tip = pushed(1.5)
+    result = Static(increments=5, path="arc_length", progress=False).solve(model)
+    elastica = euler_cantilever(LENGTH, BENDING, load=1.5 * CRITICAL)
+    end = result.positions[tip].mean(axis=0)
+    assert abs(end[2]) == pytest.approx(elastica["tip_lateral"], rel=2e-3)
+    assert end[0] == pytest.approx(elastica["tip_axial"], abs=0.5)
+    assert result.info["branch_switches"]
+    assert result.info["negative_eigenvalues"][-1] == 0
+
+
 def test_a_side_imperfection_follows_the_same_elastica_without_a_push():
     # 1e-4 P_cr sideways: no saddle on the way, the same branch as the pushed perfect strip.
     model, tip = pushed(1.5, side=1e-4)
