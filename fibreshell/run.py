@@ -20,6 +20,7 @@ from femcore.results import Frame, Result
 from femcore.writable import FIRST_FRAMES, OutputError, check_folder, frame_bytes, series_frames
 from fibreshell.case import Case
 from fibreshell.case_reading import _Where
+from fibreshell.folder_lock import folder_lock
 from fibreshell.layup_summary import layup_summary
 from fibreshell.outputs import checkpoint_collision, clean_run
 from solvers import Interrupted, SolverError
@@ -131,23 +132,25 @@ def run_case(
         streams its frames whatever it says: that keeps its memory flat.
 
     The folder is checked first (femcore.writable.check_folder: a folder, writable, room for
-    the first frames when frames are written). Static runs write each frame as its increment
-    converges, explicit runs as they go: a killed run leaves those frames (and the checkpoint).
+    the first frames when frames are written), then held (fibreshell.folder_lock: the file
+    ``fibreshell.lock`` there, removed on return) before anything in it is touched: a second
+    command writing there is refused (``FolderInUse``) instead of removing this run's frames.
+    Static runs write each frame as its increment converges, explicit runs as they go: a
+    killed run leaves those frames (and the checkpoint).
 
     Raises
     ------
     ValueError
         A calibration or its numbers given where ``kinematics`` is not "mindlin" (they would
         be ignored); ``out`` is a file or under one; ``resume`` without a checkpoint to resume
-        from; a checkpoint path that lands on a file the run writes in ``out``; a CaseError
+        from; ``out`` held by another command (fibreshell.folder_lock.FolderInUse, naming
+        it); a checkpoint path that lands on a file the run writes in ``out``; a CaseError
         (naming the file, the table and the key) for a model that cannot be built or a solver
         setting it cannot be run with (``max_steps``, mass scaling).
     femcore.writable.OutputError
         ``out`` cannot be written or is too full for the first frames, or a write failed
         during the run (the message names the file and what was kept).
     """
-    from fibreshell.calibration import Calibration
-
     check_run_options(kinematics, calibration, shear_ratio, bending_scale, transverse_shear)
     mesh = case.mesh
     kind = case.solver["kind"]
@@ -155,6 +158,18 @@ def run_case(
     frames_written = write_frames or kind == "explicit"
     needed = FIRST_FRAMES * frame_bytes(mesh) if frames_written else 0
     check_folder(out, "output folder", needed=needed)
+    with folder_lock(out, f"the run of {str(case.path)!r}"):
+        return _run_locked(case, out, kinematics, progress, calibration, shear_ratio,
+                           bending_scale, transverse_shear, resume, write_frames)  # fmt: skip
+
+
+def _run_locked(case, out, kinematics, progress, calibration, shear_ratio, bending_scale,
+                transverse_shear, resume, write_frames) -> Run:  # fmt: skip
+    """``run_case`` in its checked folder ``out``, which it holds (fibreshell.folder_lock)."""
+    from fibreshell.calibration import Calibration
+
+    mesh = case.mesh
+    kind = case.solver["kind"]
     named = case.solver.get("checkpoint")
     checkpoint = None if named is None else out / named
     if checkpoint is not None and checkpoint.resolve().parent == out.resolve():
