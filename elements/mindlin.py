@@ -737,7 +737,8 @@ class MindlinShellBlock(ElementBlock):
         """The nodal fields both shells write (README "Output fields"): ``thickness`` along
         the director, h (mm: the director is an inextensible material fibre of the section),
         and ``director_tilt_deg``, the angle between the director and the area-weighted nodal
-        normal of the block (deg; the transverse shear rotation); 0 at nodes outside it."""
+        normal of the block (deg; the transverse shear rotation); 0 at nodes outside it,
+        which the compiled model's fields write as NaN (femcore.compiled: not defined there)."""
         inside = np.zeros(self.n_nodes, dtype=bool)
         inside[self.connectivity] = True
         normals = nodal_normals(state.positions, self.connectivity)

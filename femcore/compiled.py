@@ -528,7 +528,8 @@ class CompiledModel(CompiledTangent):
     def fields(self, state: State) -> dict:
         """Output fields: {"point": {name: (n, ...)}, kind: {...} for each cell kind} with the
         cell fields spread over all mesh cells of that type (NaN where a block does not cover);
-        the interactions' node fields after the blocks'. Element blocks on disjoint nodes give
+        the interactions' node fields after the blocks'. An element block's node field is NaN
+        at the nodes outside the block (not defined there). Element blocks on disjoint nodes give
         one node field of a name (each node's value from its own block); parts that share
         nodes give name, name_2, ... in the order of the parts, and so do cell fields of one
         name whose shapes differ between blocks."""
@@ -538,6 +539,11 @@ class CompiledModel(CompiledTangent):
         for part, history in zip(self.parts, self._histories(state)):
             nodes = np.unique(part.connectivity) if isinstance(part, ElementBlock) else None
             for name, values in part.node_fields(state, history).items():
+                if nodes is not None:
+                    # not defined off the block's nodes (a Mindlin part's thickness at the
+                    # fibrous part's nodes): NaN there, which ParaView shows as no value,
+                    # never 0, which reads as a value
+                    values = _off_block_nan(np.asarray(values), nodes)
                 before = covered.get(name)
                 if nodes is not None and before is not None:
                     if not np.isin(nodes, before).any():
@@ -572,6 +578,13 @@ class CompiledModel(CompiledTangent):
                 )
                 full[part.cell_ids] = values
         return out
+
+
+def _off_block_nan(values: np.ndarray, nodes: np.ndarray) -> np.ndarray:
+    """``values`` (n, ...) as floats with NaN at the nodes not in ``nodes`` (k,) int."""
+    out = np.full(values.shape, np.nan)
+    out[nodes] = values[nodes]
+    return out
 
 
 def _springs_at(interaction: Any, state: State, step: float | None, mass: np.ndarray):

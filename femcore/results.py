@@ -26,7 +26,32 @@ from femcore.writable import OutputError, check_folder, frame_bytes
 if TYPE_CHECKING:
     import meshio
 
-__all__ = ["Frame", "Result", "write_vtu"]
+__all__ = ["Frame", "Result", "series_timesteps", "write_vtu"]
+
+
+def series_timesteps(times: Any, by_index: bool = False) -> list[float]:
+    """The ``timestep`` of each frame of a series (.pvd, .xdmf): its time ``times[k]`` where
+    the times rise from frame to frame (explicit runs: s; relaxation and Static under load
+    control: the load factor), else, or with ``by_index`` (Static along an arc-length path),
+    its index k. ParaView's readers sort a series by its timesteps, and an arc-length path's
+    load factor falls past a limit point: its frames would play out of order. Each VTU frame
+    keeps its time and load factor as field data (``write_vtu``).
+
+    Parameters
+    ----------
+    times : sequence of float, shape (k,)
+        The frames' times, in the order written.
+    by_index : bool
+        The frame's index whatever the times do.
+
+    Returns
+    -------
+    list of float, length k
+    """
+    values = [float(t) for t in times]
+    rising = all(b > a for a, b in zip(values, values[1:]))
+    return values if rising and not by_index else [float(k) for k in range(len(values))]
+
 
 # A cell block for meshio: (meshio cell type, (c, nodes_per_cell) connectivity).
 _CellBlock = tuple[str, np.ndarray]
@@ -222,6 +247,13 @@ class Result:
         return np.array([f.time for f in self.frames])
 
     @property
+    def timesteps(self) -> list[float]:
+        """Each frame's timestep in a series file (``series_timesteps``): its time where the
+        times rise, else (and for a Static run along an arc-length path, ``info["path"]``)
+        its index."""
+        return series_timesteps(self.times, by_index=self.info.get("path") == "arc_length")
+
+    @property
     def load_factors(self) -> np.ndarray:
         """(f,) load factor of each frame (dimensionless)."""
         return np.array([f.load_factor for f in self.frames])
@@ -299,14 +331,17 @@ class Result:
             The reference coordinates (n, 3), as in every format written (ParaView: Warp By
             Vector with "displacement" shows the deformed shape), one cell block per cell kind
             present, point data (displacement, velocity, reaction, director and
-            reaction_moment if some node has rotations, nodal element fields) and cell data
-            (cell element fields).
+            reaction_moment if some node has rotations, nodal element fields), cell data
+            (cell element fields) and field data: the frame's ``time`` and ``load_factor``.
         """
         import meshio
 
         f = self.frames[self._frame_index(frame)]
         cells, point_data, cell_data = self._meshio_data(f)
-        return meshio.Mesh(self.mesh.points, cells, point_data=point_data, cell_data=cell_data)
+        # the frame's time and load factor: a series' timestep may be neither (series_timesteps)
+        field_data = {"time": np.array([f.time]), "load_factor": np.array([f.load_factor])}
+        return meshio.Mesh(self.mesh.points, cells, point_data=point_data, cell_data=cell_data,
+                           field_data=field_data)  # fmt: skip
 
     def _meshio_data(
         self, f: Frame
@@ -405,12 +440,12 @@ class Result:
         elif suffix == ".pvd":
             stem = path.with_suffix("")
             entries = []
-            for i, f in enumerate(self.frames):
+            for i, step in enumerate(self.timesteps):
                 part = stem.parent / f"{stem.name}_{i:04d}.vtu"
                 write_vtu(self.to_meshio(i), part)
                 written.append(part.name)
                 entries.append(
-                    f"    <DataSet timestep={quoteattr(repr(f.time))} file={quoteattr(part.name)}/>"
+                    f"    <DataSet timestep={quoteattr(repr(step))} file={quoteattr(part.name)}/>"
                 )
             path.write_text(
                 '<?xml version="1.0"?>\n<VTKFile type="Collection" version="0.1">\n'
@@ -420,7 +455,9 @@ class Result:
             from femcore.xdmf import write_xdmf
 
             cells, _, _ = self._meshio_data(self.frames[0])
-            series = ((f.time, *self._meshio_data(f)[1:]) for f in self.frames)
+            series = (
+                (step, *self._meshio_data(f)[1:]) for step, f in zip(self.timesteps, self.frames)
+            )
             write_xdmf(path, self.mesh.points, cells, series)
 
 
@@ -435,7 +472,8 @@ def write_vtu(mesh: meshio.Mesh, path: Path) -> None:
     """Write ``mesh`` to the VTU file ``path`` (binary, zlib-compressed, by meshio) with the
     names of the components of its multi-component arrays (``ComponentName0`` ...
     attributes, which VTK's XML reader and so ParaView read) where femcore.field_names
-    knows them.
+    knows them, and its field data (one-tuple values: a frame's ``time`` and
+    ``load_factor``) in the grid's ``FieldData``, which meshio's writer leaves out.
 
     Parameters
     ----------
@@ -455,5 +493,15 @@ def write_vtu(mesh: meshio.Mesh, path: Path) -> None:
         return match[0] + extra.encode()
 
     renamed = _DATA_ARRAY.sub(named, text)
+    scalars = {name: np.ravel(values) for name, values in mesh.field_data.items()}
+    grid = b"<UnstructuredGrid>\n"
+    if scalars and b"<FieldData>" not in renamed and grid in renamed:
+        # meshio's VTU writer leaves field data out; VTK reads it from the grid's FieldData
+        arrays = "".join(
+            f'<DataArray type="Float64" Name={quoteattr(name)} NumberOfTuples="{len(values)}" '
+            f'format="ascii">{" ".join(repr(float(v)) for v in values)}</DataArray>\n'
+            for name, values in scalars.items()
+        )
+        renamed = renamed.replace(grid, grid + f"<FieldData>\n{arrays}</FieldData>\n".encode(), 1)
     if renamed != text:
         path.write_bytes(renamed)

@@ -17,7 +17,8 @@ Every output folder defaults to one named after the case file in the working fol
 
 Exit status: 0 done, 1 the solver stopped (its last good state is written; for a sweep: a
 variant failed, its row says why; for identify: a run failed or the fit did not converge),
-2 a bad case file or command line (the message names the file, the table and the key), 3 an
+2 a bad case file or command line (the message names the file, the table and the key), or an
+output folder another command is writing in (fibreshell.folder_lock: the message names it), 3 an
 output folder or file could not be written (one line on stderr names the path and what was
 kept), 130 interrupted (SIGINT or SIGTERM: ``run`` finishes the step in progress, writes its
 outputs, checkpoint and summary.json with status "interrupted" and says how to resume).

@@ -28,6 +28,7 @@ import numpy as np
 from fibreshell.calibration import CALIBRATIONS, Calibration
 from fibreshell.case import Case
 from fibreshell.confidence import below_zero, interval_text
+from fibreshell.folder_lock import folder_lock
 from fibreshell.outputs import IDENTIFY_FILES, MATERIAL_LINES, remove_run_folder
 from fibreshell.run import Run, profile, run_case, section_thickness, strict_json
 
@@ -88,6 +89,8 @@ def compare_case(
     angle, director tilt from the normal, thickness along the director). Every figure and the
     JSON state the Mindlin calibration and the numbers it chose. What an earlier comparison
     wrote in ``out`` is removed first (``remove_comparison``): the folder holds this one's.
+    ``out`` is held from then on (fibreshell.folder_lock): another command writing there is
+    refused, and this one is refused where another holds it.
 
     Parameters
     ----------
@@ -116,7 +119,8 @@ def compare_case(
     ValueError
         A case without a fibrous part (nothing to calibrate on or to split into plies), an
         unknown kinematics or calibration, a calibration number it refuses (a negative
-        ``shear_ratio``), a bad ply count or fit path: all before the first run.
+        ``shear_ratio``), a bad ply count or fit path: all before the first run; ``out`` or
+        a kinematics' folder in it held by another command (fibreshell.folder_lock.FolderInUse).
     """
     chosen = _kinematics(kinematics)
     if isinstance(calibration, str) and calibration not in CALIBRATIONS:
@@ -154,41 +158,47 @@ def compare_case(
 
         ply_stack(case, plies)  # the count and the case's fitness for plies, now
     out.mkdir(parents=True, exist_ok=True)
-    remove_comparison(out)
-    runs: dict[str, Run] = {}
-    if "fibrous" in chosen or (fitting and "mindlin" in chosen):
-        runs["fibrous"] = run_case(case, out / "fibrous", "fibrous", progress)
-    if fitting and "mindlin" in chosen:
-        rule = fit_calibration(
-            case, runs["fibrous"], out / "fit", fit_path, fit_evaluations,
-            scheduler=scheduler, workers=workers,
-        )  # fmt: skip
-    if "mindlin" in chosen:
-        runs["mindlin"] = run_case(case, out / "mindlin", "mindlin", progress, calibration=rule)
-    if "plies" in chosen:
-        from fibreshell.plies import run_plies
+    with folder_lock(out, f"the comparison of {str(case.path)!r}"):
+        remove_comparison(out)
+        runs: dict[str, Run] = {}
+        if "fibrous" in chosen or (fitting and "mindlin" in chosen):
+            runs["fibrous"] = run_case(case, out / "fibrous", "fibrous", progress)
+        if fitting and "mindlin" in chosen:
+            rule = fit_calibration(
+                case, runs["fibrous"], out / "fit", fit_path, fit_evaluations,
+                scheduler=scheduler, workers=workers,
+            )  # fmt: skip
+        if "mindlin" in chosen:
+            runs["mindlin"] = run_case(case, out / "mindlin", "mindlin", progress, calibration=rule)
+        if "plies" in chosen:
+            from fibreshell.plies import run_plies
 
-        runs["plies"] = run_plies(case, out / "plies", plies, progress)
-    records = {name: kinematics_record(case, run) for name, run in runs.items()}
-    comparison: dict[str, Any] = {
-        "case": case.title,
-        "calibration": (
-            {"kinematics": "mindlin", **rule.describe(fabric)}
-            if "mindlin" in runs
-            else {"kinematics": "mindlin", "name": None, "rule": "no Mindlin run", "numbers": {}}
-        ),
-        "kinematics": records,
-        "differences": _differences({name: r["paths"] for name, r in records.items()}),
-        "figures": [],
-    }
-    if "plies" in runs:
-        comparison["plies"] = runs["plies"].summary.get("plies", {})
-    label = rule.label(fabric) if "mindlin" in runs else ""
-    comparison["figures"].append(view_3d(case, runs, out, label).name)
-    for name in case.paths:
-        comparison["figures"].append(path_figure(case, runs, name, out, label).name)
-    (out / "comparison.json").write_text(strict_json(comparison))
-    return runs
+            runs["plies"] = run_plies(case, out / "plies", plies, progress)
+        records = {name: kinematics_record(case, run) for name, run in runs.items()}
+        comparison: dict[str, Any] = {
+            "case": case.title,
+            "calibration": (
+                {"kinematics": "mindlin", **rule.describe(fabric)}
+                if "mindlin" in runs
+                else {
+                    "kinematics": "mindlin",
+                    "name": None,
+                    "rule": "no Mindlin run",
+                    "numbers": {},
+                }
+            ),
+            "kinematics": records,
+            "differences": _differences({name: r["paths"] for name, r in records.items()}),
+            "figures": [],
+        }
+        if "plies" in runs:
+            comparison["plies"] = runs["plies"].summary.get("plies", {})
+        label = rule.label(fabric) if "mindlin" in runs else ""
+        comparison["figures"].append(view_3d(case, runs, out, label).name)
+        for name in case.paths:
+            comparison["figures"].append(path_figure(case, runs, name, out, label).name)
+        (out / "comparison.json").write_text(strict_json(comparison))
+        return runs
 
 
 def remove_comparison(out: Path) -> None:

@@ -26,6 +26,7 @@ from __future__ import annotations
 import csv
 import inspect
 import time
+from contextlib import nullcontext
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -36,6 +37,7 @@ from fibreshell import registry
 from fibreshell.case import case_from_data, read_case_data
 from fibreshell.cluster import Failure, dask_client, map_tasks
 from fibreshell.confidence import below_zero, interval_text
+from fibreshell.folder_lock import folder_lock
 from fibreshell.outputs import IDENTIFY_FILES
 from fibreshell.run import strict_json
 from fibreshell.sweep import RUN_KEYS, apply_overrides, read_value, run_variant, summary_row
@@ -272,7 +274,9 @@ def identify(
     Raises
     ------
     ValueError
-        Bad data, keys or options.
+        Bad data, keys or options; ``out`` held by another command
+        (fibreshell.folder_lock.FolderInUse, naming it: the fit holds it from its first run
+        until it returns).
     FitFailed
         A run that fails during the fit (its values and error are given).
     """
@@ -364,105 +368,109 @@ def identify(
                 values.append(np.array([[row[n] for n in responses] for _ in rows_of_group]))
         return np.concatenate([np.ravel(v) for v in values])
 
-    with dask_client(scheduler, workers) as (client, threads):
-
-        def evaluate(points: list[np.ndarray]) -> None:
-            """Run every condition group at every new point p (log ratios), in one batch."""
-            new = [p for p in dict.fromkeys(tuple(p) for p in points) if p not in cache]
-            if not new:
-                return
-            tasks = [
-                (tables, str(case_path), {**setting, **dict(zip(keys, np.exp(p) * theta0))},
-                 None, threads)
-                for p in new for setting in settings
-            ]  # fmt: skip
-            results = map_tasks(client, run_variant, tasks, f"identify {case_path.stem}",
-                                progress)  # fmt: skip
-            counts["evaluations"] += len(new)
-            counts["runs"] += len(tasks)
-            for k, p in enumerate(new):
-                batch = results[k * len(settings) : (k + 1) * len(settings)]
-                for task, result in zip(tasks[k * len(settings) :], batch):
-                    error = result.error if isinstance(result, Failure) else result[0]["error"]
-                    if error or result[1] is None or not result[0]["converged"]:
-                        values = ", ".join(f"{key} = {_show(v)}" for key, v in task[2].items())
-                        raise FitFailed(f"the run with {values} failed: {error or 'not converged'}")
-                summaries = [result[1] for result in batch]
-                cache[p] = ((model_values(summaries) - measured) / scale, summaries)
-
-        def residuals(p: np.ndarray) -> np.ndarray:
-            evaluate([p])
-            return cache[tuple(p)][0]
-
-        def jacobian(p: np.ndarray) -> np.ndarray:
-            # Forward differences, every column's runs at once (and the base point if new).
-            steps = np.full(len(p), step)  # relative steps of theta
-            shifted = [p + steps[j] * np.eye(len(p))[j] for j in range(len(p))]
-            evaluate([p, *shifted])
-            base = cache[tuple(p)][0]
-            return np.column_stack(
-                [(cache[tuple(q)][0] - base) / steps[j] for j, q in enumerate(shifted)]
-            )
-
-        origin = np.zeros(len(keys))
-        solution = optimize.least_squares(
-            residuals, origin, jac=jacobian, method="trf",
-            x_scale=1.0, max_nfev=max_evaluations, ftol=1e-6, xtol=1e-5, gtol=1e-10,
-        )  # fmt: skip
-        jac = jacobian(solution.x)
-    m, n = len(measured), len(keys)
-    values = np.exp(solution.x) * theta0
-    final = cache[tuple(solution.x)][0]
-    errors = np.full(n, np.nan)
-    intervals = np.full((n, 2), np.nan)
-    if m > n:
-        # In p = ln(theta / theta_0), where the parameters are alike in scale (the condition
-        # number then says whether the data tell them apart, not how their units compare);
-        # d theta = theta d p carries the covariance over.
-        variance = float(final @ final) / (m - n)
-        normal = jac.T @ jac
-        if np.linalg.cond(normal) < 1e12:
-            errors = np.abs(values) * np.sqrt(np.diag(np.linalg.inv(normal)) * variance)
-            half = stats.t.ppf(0.5 + CONFIDENCE / 2, m - n) * errors
-            intervals = np.column_stack([values - half, values + half])
-    result = Identification(
-        keys=keys,
-        start=theta0,
-        values=values,
-        standard_errors=errors,
-        intervals=intervals,
-        residual_rms=float(np.sqrt(np.mean(final**2))),  # in units of sigma when given
-        success=bool(solution.success),
-        message=str(solution.message),
-        evaluations=counts["evaluations"],
-        runs=counts["runs"],
-        wall_time_s=time.perf_counter() - started,
-        responses=named,
-        sigma=weights,
-        conditions=[dict(s) for s, g in zip(settings, groups.values()) for _ in g],
-        measured=measured,
-        fitted=final * scale + measured,
-        initial=cache[tuple(origin)][0] * scale + measured,
-    )
-    if profile:
-        assert path is not None
-        for label, p in (("fitted", solution.x), ("initial", origin)):
-            result.profiles[label] = [
-                (np.asarray(s["paths"][path]["horizontal"]), np.asarray(s["paths"][path]["z"]))
-                for s in cache[tuple(p)][1]
-            ]
-        result.profiles["measured_x"] = [
-            np.array([columns["x"][r] for r in g], dtype=float) for g in groups.values()
-        ]
-    if out is not None:
-        folder = Path(out)
+    folder = None if out is None else Path(out)
+    if folder is not None:  # held from before the first run (fibreshell.folder_lock)
         if folder.exists() and not folder.is_dir():
             raise ValueError(f"out {str(folder)!r} is a file: give a folder")
         folder.mkdir(parents=True, exist_ok=True)
-        record, drawing = IDENTIFY_FILES
-        (folder / record).write_text(strict_json(result.as_dict()))
-        figure(result, settings, folder / drawing)
-    return result
+    with folder_lock(folder, f"the fit of {str(case_path)!r}") if folder else nullcontext():
+        with dask_client(scheduler, workers) as (client, threads):
+
+            def evaluate(points: list[np.ndarray]) -> None:
+                """Run every condition group at every new point p (log ratios), in one batch."""
+                new = [p for p in dict.fromkeys(tuple(p) for p in points) if p not in cache]
+                if not new:
+                    return
+                tasks = [
+                    (tables, str(case_path), {**setting, **dict(zip(keys, np.exp(p) * theta0))},
+                     None, threads)
+                    for p in new for setting in settings
+                ]  # fmt: skip
+                results = map_tasks(client, run_variant, tasks, f"identify {case_path.stem}",
+                                    progress)  # fmt: skip
+                counts["evaluations"] += len(new)
+                counts["runs"] += len(tasks)
+                for k, p in enumerate(new):
+                    batch = results[k * len(settings) : (k + 1) * len(settings)]
+                    for task, result in zip(tasks[k * len(settings) :], batch):
+                        error = result.error if isinstance(result, Failure) else result[0]["error"]
+                        if error or result[1] is None or not result[0]["converged"]:
+                            values = ", ".join(f"{key} = {_show(v)}" for key, v in task[2].items())
+                            raise FitFailed(
+                                f"the run with {values} failed: {error or 'not converged'}"
+                            )
+                    summaries = [result[1] for result in batch]
+                    cache[p] = ((model_values(summaries) - measured) / scale, summaries)
+
+            def residuals(p: np.ndarray) -> np.ndarray:
+                evaluate([p])
+                return cache[tuple(p)][0]
+
+            def jacobian(p: np.ndarray) -> np.ndarray:
+                # Forward differences, every column's runs at once (and the base point if new).
+                steps = np.full(len(p), step)  # relative steps of theta
+                shifted = [p + steps[j] * np.eye(len(p))[j] for j in range(len(p))]
+                evaluate([p, *shifted])
+                base = cache[tuple(p)][0]
+                return np.column_stack(
+                    [(cache[tuple(q)][0] - base) / steps[j] for j, q in enumerate(shifted)]
+                )
+
+            origin = np.zeros(len(keys))
+            solution = optimize.least_squares(
+                residuals, origin, jac=jacobian, method="trf",
+                x_scale=1.0, max_nfev=max_evaluations, ftol=1e-6, xtol=1e-5, gtol=1e-10,
+            )  # fmt: skip
+            jac = jacobian(solution.x)
+        m, n = len(measured), len(keys)
+        values = np.exp(solution.x) * theta0
+        final = cache[tuple(solution.x)][0]
+        errors = np.full(n, np.nan)
+        intervals = np.full((n, 2), np.nan)
+        if m > n:
+            # In p = ln(theta / theta_0), where the parameters are alike in scale (the condition
+            # number then says whether the data tell them apart, not how their units compare);
+            # d theta = theta d p carries the covariance over.
+            variance = float(final @ final) / (m - n)
+            normal = jac.T @ jac
+            if np.linalg.cond(normal) < 1e12:
+                errors = np.abs(values) * np.sqrt(np.diag(np.linalg.inv(normal)) * variance)
+                half = stats.t.ppf(0.5 + CONFIDENCE / 2, m - n) * errors
+                intervals = np.column_stack([values - half, values + half])
+        result = Identification(
+            keys=keys,
+            start=theta0,
+            values=values,
+            standard_errors=errors,
+            intervals=intervals,
+            residual_rms=float(np.sqrt(np.mean(final**2))),  # in units of sigma when given
+            success=bool(solution.success),
+            message=str(solution.message),
+            evaluations=counts["evaluations"],
+            runs=counts["runs"],
+            wall_time_s=time.perf_counter() - started,
+            responses=named,
+            sigma=weights,
+            conditions=[dict(s) for s, g in zip(settings, groups.values()) for _ in g],
+            measured=measured,
+            fitted=final * scale + measured,
+            initial=cache[tuple(origin)][0] * scale + measured,
+        )
+        if profile:
+            assert path is not None
+            for label, p in (("fitted", solution.x), ("initial", origin)):
+                result.profiles[label] = [
+                    (np.asarray(s["paths"][path]["horizontal"]), np.asarray(s["paths"][path]["z"]))
+                    for s in cache[tuple(p)][1]
+                ]
+            result.profiles["measured_x"] = [
+                np.array([columns["x"][r] for r in g], dtype=float) for g in groups.values()
+            ]
+        if folder is not None:
+            record, drawing = IDENTIFY_FILES
+            (folder / record).write_text(strict_json(result.as_dict()))
+            figure(result, settings, folder / drawing)
+        return result
 
 
 def _show(value: Any) -> str:

@@ -19,6 +19,8 @@ import os
 import re
 from pathlib import Path, PurePath
 
+from fibreshell.folder_lock import LOCK_FILE, folder_lock
+
 __all__ = [
     "DEFAULT_CHECKPOINT", "IDENTIFY_FILES", "MATERIAL_LINES", "RUN_FILES", "VARIANT_FILE",
     "checkpoint_collision", "clean_run", "is_run_output", "remove_run_folder",
@@ -55,6 +57,8 @@ def checkpoint_collision(name: str | os.PathLike[str]) -> str | None:
         return None
     if is_run_output(path.name):
         return f"{path.name!r}, which the run writes in the output folder"
+    if path.name == LOCK_FILE or path.name.startswith(LOCK_FILE + "."):
+        return f"{path.name!r}, the lock a command holds on the output folder while it writes"
     if path.name == VARIANT_FILE:
         return f"{path.name!r}, which a sweep writes in each variant's folder"
     return None
@@ -81,7 +85,8 @@ def remove_run_folder(folder: Path, extra: tuple[str, ...] = ()) -> None:
     """Remove a folder an earlier command wrote a run into: the run's files (``clean_run``,
     with the checkpoint its summary.json names when that is in the folder), the files named
     in ``extra`` (what the command added beside the run), then the folder itself if nothing
-    else is left in it (a user's own file keeps it)."""
+    else is left in it (a user's own file keeps it). The folder is held while its files go
+    (fibreshell.folder_lock): one another command holds is refused (FolderInUse)."""
     if not folder.is_dir():
         return
     checkpoint = None
@@ -91,7 +96,10 @@ def remove_run_folder(folder: Path, extra: tuple[str, ...] = ()) -> None:
         named = None
     if isinstance(named, str) and Path(named).parent.resolve() == folder.resolve():
         checkpoint = folder / Path(named).name
-    clean_run(folder, checkpoint, extra)
+    # held while emptied: a command writing there now (fibreshell run --out into a sweep's
+    # variant folder) keeps its files, and this command is refused
+    with folder_lock(folder, f"the removal of an earlier run's files from {str(folder)!r}"):
+        clean_run(folder, checkpoint, extra)
     try:
         folder.rmdir()
     except OSError:  # not empty: the user's files stay, and the folder with them

@@ -22,6 +22,7 @@ from elements import FibrousShell, MindlinShell
 from elements.plies import PlyStack
 from femcore.results import write_vtu
 from fibreshell.case import SOLVERS, Case
+from fibreshell.folder_lock import folder_lock
 from fibreshell.outputs import MATERIAL_LINES, clean_run
 from fibreshell.run import Run, path_axis, solve_keeping, strict_json
 
@@ -143,7 +144,7 @@ def plies_profiles(case: Case, stack: PlyStack, positions, directors) -> dict[st
 def run_plies(case: Case, out: Path, count: int | None = None, progress: bool | None = None) -> Run:
     """Run the case as its stack of plies into ``out`` (result.pvd on the plies' mesh,
     material-lines.vtu on the case's mesh: ``write_material_lines``, summary.json) with the
-    case's solver.
+    case's solver, holding ``out`` (fibreshell.folder_lock) while it writes there.
 
     Returns
     -------
@@ -154,44 +155,45 @@ def run_plies(case: Case, out: Path, count: int | None = None, progress: bool | 
         largest gap and overlap between plies (mm) and the contact penalty.
     """
     out.mkdir(parents=True, exist_ok=True)
-    clean_run(out, None, extra=(MATERIAL_LINES,))  # an earlier run's frames, by their names
-    stack = ply_stack(case, count)
-    model = stack_model(case, stack)
-    result, error, wall = solve_keeping(plies_solver(case, progress), model)
-    result.write(out / "result.pvd")
-    final = result.frames[-1]
-    lines = stack.material_lines(final.positions, final.directors)
-    profiles = plies_profiles(case, stack, final.positions, final.directors)
-    summary: dict[str, Any] = {
-        "case": case.title,
-        "kinematics": "plies",
-        "solver": case.solver["kind"],
-        "converged": bool(result.converged),
-        "stopped": error or None,
-        "steps": int(result.steps),
-        "wall_time_s": wall,
-        "reactions": {
-            name: final.reactions[stack.nodes(name)].sum(axis=0)
-            for name in case.history.get("reactions", [])
-        },
-        "mean_displacements": {
-            name: (lines.midpoint[n] - case.mesh.points[n]).mean(axis=0)
-            for name in case.history.get("displacements", [])
-            for n in [case.mesh.nodes(name)]
-        },
-        "plies": {
-            "count": stack.count,
-            "ply_thickness_mm": stack.ply_thickness,
-            "element": "MindlinShell(fabric.plies(N)), the fabric's laws shared out",
-            "contact": "frictionless penalty between neighbouring plies' faces",
-            "largest_gap_mm": float(np.max(lines.gap)),
-            "largest_overlap_mm": float(max(0.0, -np.min(lines.gap))),
-        },
-        "paths": profiles,
-    }
-    (out / "summary.json").write_text(strict_json(summary))
-    write_material_lines(case, stack, lines, out / MATERIAL_LINES)
-    return Run("plies", result, error, wall, summary, profiles=profiles)
+    with folder_lock(out, f"the plies' run of {str(case.path)!r}"):
+        clean_run(out, None, extra=(MATERIAL_LINES,))  # an earlier run's frames, by their names
+        stack = ply_stack(case, count)
+        model = stack_model(case, stack)
+        result, error, wall = solve_keeping(plies_solver(case, progress), model)
+        result.write(out / "result.pvd")
+        final = result.frames[-1]
+        lines = stack.material_lines(final.positions, final.directors)
+        profiles = plies_profiles(case, stack, final.positions, final.directors)
+        summary: dict[str, Any] = {
+            "case": case.title,
+            "kinematics": "plies",
+            "solver": case.solver["kind"],
+            "converged": bool(result.converged),
+            "stopped": error or None,
+            "steps": int(result.steps),
+            "wall_time_s": wall,
+            "reactions": {
+                name: final.reactions[stack.nodes(name)].sum(axis=0)
+                for name in case.history.get("reactions", [])
+            },
+            "mean_displacements": {
+                name: (lines.midpoint[n] - case.mesh.points[n]).mean(axis=0)
+                for name in case.history.get("displacements", [])
+                for n in [case.mesh.nodes(name)]
+            },
+            "plies": {
+                "count": stack.count,
+                "ply_thickness_mm": stack.ply_thickness,
+                "element": "MindlinShell(fabric.plies(N)), the fabric's laws shared out",
+                "contact": "frictionless penalty between neighbouring plies' faces",
+                "largest_gap_mm": float(np.max(lines.gap)),
+                "largest_overlap_mm": float(max(0.0, -np.min(lines.gap))),
+            },
+            "paths": profiles,
+        }
+        (out / "summary.json").write_text(strict_json(summary))
+        write_material_lines(case, stack, lines, out / MATERIAL_LINES)
+        return Run("plies", result, error, wall, summary, profiles=profiles)
 
 
 def write_material_lines(case: Case, stack: PlyStack, lines, path: Path) -> Path:

@@ -7,6 +7,7 @@ from __future__ import annotations
 import csv
 import json
 import math
+import re
 import time
 import warnings
 from dataclasses import dataclass
@@ -20,6 +21,7 @@ from femcore.results import Frame, Result
 from femcore.writable import FIRST_FRAMES, OutputError, check_folder, frame_bytes, series_frames
 from fibreshell.case import Case
 from fibreshell.case_reading import _Where
+from fibreshell.folder_lock import folder_lock
 from fibreshell.layup_summary import layup_summary
 from fibreshell.outputs import checkpoint_collision, clean_run
 from solvers import Interrupted, SolverError
@@ -32,8 +34,8 @@ HISTORY_SETTINGS = frozenset({"history_nodes", "frame_summary"})
 
 __all__ = [
     "FrameRows", "Run", "check_run_options", "frame_row", "frames_written", "history_rows", "kept",
-    "path_axis", "profile", "run_case", "section_thickness", "solve_keeping", "strict_json",
-    "summarise",
+    "path_axis", "profile", "run_case", "run_kinematics", "section_thickness", "solve_keeping",
+    "strict_json", "summarise",
 ]  # fmt: skip
 
 
@@ -131,23 +133,25 @@ def run_case(
         streams its frames whatever it says: that keeps its memory flat.
 
     The folder is checked first (femcore.writable.check_folder: a folder, writable, room for
-    the first frames when frames are written). Static runs write each frame as its increment
-    converges, explicit runs as they go: a killed run leaves those frames (and the checkpoint).
+    the first frames when frames are written), then held (fibreshell.folder_lock: the file
+    ``fibreshell.lock`` there, removed on return) before anything in it is touched: a second
+    command writing there is refused (``FolderInUse``) instead of removing this run's frames.
+    Static runs write each frame as its increment converges, explicit runs as they go: a
+    killed run leaves those frames (and the checkpoint).
 
     Raises
     ------
     ValueError
         A calibration or its numbers given where ``kinematics`` is not "mindlin" (they would
         be ignored); ``out`` is a file or under one; ``resume`` without a checkpoint to resume
-        from; a checkpoint path that lands on a file the run writes in ``out``; a CaseError
+        from; ``out`` held by another command (fibreshell.folder_lock.FolderInUse, naming
+        it); a checkpoint path that lands on a file the run writes in ``out``; a CaseError
         (naming the file, the table and the key) for a model that cannot be built or a solver
         setting it cannot be run with (``max_steps``, mass scaling).
     femcore.writable.OutputError
         ``out`` cannot be written or is too full for the first frames, or a write failed
         during the run (the message names the file and what was kept).
     """
-    from fibreshell.calibration import Calibration
-
     check_run_options(kinematics, calibration, shear_ratio, bending_scale, transverse_shear)
     mesh = case.mesh
     kind = case.solver["kind"]
@@ -155,6 +159,18 @@ def run_case(
     frames_written = write_frames or kind == "explicit"
     needed = FIRST_FRAMES * frame_bytes(mesh) if frames_written else 0
     check_folder(out, "output folder", needed=needed)
+    with folder_lock(out, f"the run of {str(case.path)!r}"):
+        return _run_locked(case, out, kinematics, progress, calibration, shear_ratio,
+                           bending_scale, transverse_shear, resume, write_frames)  # fmt: skip
+
+
+def _run_locked(case, out, kinematics, progress, calibration, shear_ratio, bending_scale,
+                transverse_shear, resume, write_frames) -> Run:  # fmt: skip
+    """``run_case`` in its checked folder ``out``, which it holds (fibreshell.folder_lock)."""
+    from fibreshell.calibration import Calibration
+
+    mesh = case.mesh
+    kind = case.solver["kind"]
     named = case.solver.get("checkpoint")
     checkpoint = None if named is None else out / named
     if checkpoint is not None and checkpoint.resolve().parent == out.resolve():
@@ -218,8 +234,10 @@ def run_case(
         ) from None
     error = "" if failure is None else str(failure)
     status = "interrupted" if isinstance(failure, Interrupted) else "stopped" if error else "done"
-    label = kinematics or ("fibrous" if case.has_fibrous else case.parts[0]["kind"])
+    label, kinds = run_kinematics(case, kinematics)
     summary = summarise(case, result, label, error, wall, held_directors(model))
+    if kinds is not None:  # "mixed": which parts are what
+        summary["parts"] = kinds
     summary["status"] = status
     summary["checkpoint"] = str(checkpoint) if checkpoint is not None else None
     try:
@@ -235,6 +253,23 @@ def run_case(
         raise OutputError.from_error(failed, kept(out, checkpoint)) from None
     return Run(label, result, error, wall, summary, status=status,
                signal=getattr(failure, "signal", None), checkpoint=checkpoint)  # fmt: skip
+
+
+def run_kinematics(case: Case, kinematics: str | None) -> tuple[str, list[str] | None]:
+    """The kinematics a run of ``case`` is named by (summary.json's "kinematics") and, where
+    its parts differ, their elements in the case's order (else None): ``kinematics`` where
+    given ("fibrous", "mindlin"), else the parts' one element ("fibrous", "mindlin", ...), or
+    "mixed" for parts of different elements (a fibrous and a Mindlin part on shared nodes
+    were called "fibrous")."""
+    if case.layup is not None:  # the plies' shells are one element
+        return kinematics or ("fibrous" if case.has_fibrous else case.parts[0]["kind"]), None
+    kinds = [
+        "mindlin" if kinematics == "mindlin" and part["kind"] == "fibrous" else part["kind"]
+        for part in case.parts
+    ]
+    if len(set(kinds)) > 1:
+        return kinematics or "mixed", kinds
+    return kinematics or kinds[0], None
 
 
 def kept(out: Path, checkpoint: Path | None) -> str:
@@ -496,14 +531,26 @@ def summarise(
                 np.abs(np.r_[triangle["warp_strain"].ravel(), triangle["weft_strain"].ravel()])
             )
         )
-    if "director_tilt_deg" in final.fields.get("point", {}):
-        tilt = np.array(final.fields["point"]["director_tilt_deg"], dtype=float)
-        if held is not None and held.size and held.size < len(tilt):
+    point = final.fields.get("point", {})
+    # every block's tilt: a part on nodes another part shares has its own (director_tilt_deg_2),
+    # NaN off its block (femcore.compiled: not defined there)
+    tilts = [
+        np.array(values, dtype=float)
+        for name, values in point.items()
+        if re.fullmatch(r"director_tilt_deg(_\d+)?", name)
+    ]
+    if tilts:
+        tilt = np.vstack(tilts)
+        if held is not None and held.size and held.size < tilt.shape[1]:
             # a held director is imposed: its tilt is measured against the clamp's one-sided
             # facets (a Mindlin clamp read 13.7 deg where the next node out leans 3.1; the
             # fibrous shell measures its clamp against the reference normal, 0)
-            tilt[held] = np.nan
-        out["director_tilt_deg"] = {"min": float(np.nanmin(tilt)), "max": float(np.nanmax(tilt))}
+            tilt[:, held] = np.nan
+        out["director_tilt_deg"] = (
+            {"min": float(np.nanmin(tilt)), "max": float(np.nanmax(tilt))}
+            if np.isfinite(tilt).any()
+            else {"min": None, "max": None}
+        )
     if case.layup is not None:  # per ply: angle, shear, displacement, slip over the one below
         out["layup"] = layup_summary(case.layup, case.mesh.points, final)
         _say_crossings(out["layup"]["crossed"], case.layup.lower_rule)

@@ -26,7 +26,7 @@ import threading
 import time
 import tomllib
 from collections.abc import Iterator
-from contextlib import contextmanager
+from contextlib import contextmanager, nullcontext
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -35,6 +35,7 @@ import numpy as np
 
 from fibreshell.case import CaseError, case_from_data, read_case_data
 from fibreshell.cluster import Failure, dask_client, map_tasks, set_threads
+from fibreshell.folder_lock import folder_lock
 from fibreshell.outputs import VARIANT_FILE, remove_run_folder
 
 __all__ = [
@@ -470,6 +471,8 @@ def sweep(
         different lengths, a bad ``workers`` or a scheduler that does not answer; or every
         variant failing to build (then the sweep itself is wrong: the first error is given);
         more than ``max_variants`` variants; ``in_process`` with ``scheduler`` or ``workers``.
+        ``out`` held by another command (fibreshell.folder_lock.FolderInUse, naming it): the
+        sweep holds it until it returns, and each variant its own folder while it runs.
     """
     from fibreshell.run import check_run_options
 
@@ -493,71 +496,76 @@ def sweep(
         if folder.exists() and not folder.is_dir():
             raise ValueError(f"out {str(folder)!r} is a file: give a folder")
         folder.mkdir(parents=True, exist_ok=True)
-        remove_variants(folder)
-        definition = {"case": str(path), "vary": vary, "paired": paired, "scheduler": scheduler}
-        (folder / "sweep.json").write_text(json.dumps(definition, indent=1) + "\n")
-    errors = []
-    for i, overrides in enumerate(combos):
-        label = f"variant-{i:03d}"
-        row: dict[str, Any] = {"variant": i, "folder": label if folder else "", **overrides}
-        rows.append(row)
-        tables, options = apply_overrides(data, overrides)  # a wrong key: the sweep's error
-        try:
-            case_from_data(tables, path)  # a value the case refuses: this variant's row
-            check_run_options(**options)  # a calibration its kinematics would ignore
-        except (CaseError, ValueError) as error:
-            row.update(converged=False, error=f"{type(error).__name__}: {error}")
-            errors.append(str(error))
-            continue
-        tasks.append((data, str(path), overrides, str(folder / label) if folder else None))
-        where.append(i)
-    if not tasks:
-        raise ValueError(f"no variant of the sweep could be built: {errors[0]}")
-    table = SweepTable(keys=list(vary), rows=rows, summaries=[None] * len(rows))
-
-    ended: set[int] = set()  # the tasks that ended (their rows filled)
-
-    def done(task: int, result: Any) -> None:
-        ended.add(task)
-        i = where[task]
-        if isinstance(result, Failure):
-            rows[i].update(converged=False, error=result.error)
-        else:
-            rows[i].update(result[0])
-            table.summaries[i] = result[1]
+    held = folder_lock(folder, f"the sweep of {str(path)!r}") if folder else nullcontext()
+    with held:
         if folder is not None:
-            table.write_csv(folder / "sweep.csv")
+            remove_variants(folder)
+            definition = {"case": str(path), "vary": vary, "paired": paired,
+                          "scheduler": scheduler}  # fmt: skip
+            (folder / "sweep.json").write_text(json.dumps(definition, indent=1) + "\n")
+        errors = []
+        for i, overrides in enumerate(combos):
+            label = f"variant-{i:03d}"
+            row: dict[str, Any] = {"variant": i, "folder": label if folder else "", **overrides}
+            rows.append(row)
+            tables, options = apply_overrides(data, overrides)  # a wrong key: the sweep's error
+            try:
+                case_from_data(tables, path)  # a value the case refuses: this variant's row
+                check_run_options(**options)  # a calibration its kinematics would ignore
+            except (CaseError, ValueError) as error:
+                row.update(converged=False, error=f"{type(error).__name__}: {error}")
+                errors.append(str(error))
+                continue
+            tasks.append((data, str(path), overrides, str(folder / label) if folder else None))
+            where.append(i)
+        if not tasks:
+            raise ValueError(f"no variant of the sweep could be built: {errors[0]}")
+        table = SweepTable(keys=list(vary), rows=rows, summaries=[None] * len(rows))
 
-    try:
-        with _terminated_as_interrupt():
-            if in_process:
-                for task, arguments in enumerate(tasks):
-                    result: Any
-                    try:  # as map_tasks on a cluster: an error escaping the variant is its row's
-                        result = run_variant(*arguments)
-                    except Exception as error:
-                        result = Failure(f"{type(error).__name__}: {error}")
-                    done(task, result)
+        ended: set[int] = set()  # the tasks that ended (their rows filled)
+
+        def done(task: int, result: Any) -> None:
+            ended.add(task)
+            i = where[task]
+            if isinstance(result, Failure):
+                rows[i].update(converged=False, error=result.error)
             else:
-                with dask_client(scheduler, workers) as (client, threads):
-                    map_tasks(
-                        client,
-                        run_variant,
-                        [(*task, threads) for task in tasks],
-                        f"sweep {path.stem}",
-                        progress,
-                        done,
-                    )
-    except KeyboardInterrupt:  # Ctrl-C or SIGTERM: the variants that did not end say so
-        for task, i in enumerate(where):
-            if task not in ended:
-                rows[i].update(converged=False, error=INTERRUPTED)
+                rows[i].update(result[0])
+                table.summaries[i] = result[1]
+            if folder is not None:
+                table.write_csv(folder / "sweep.csv")
+
+        try:
+            with _terminated_as_interrupt():
+                if in_process:
+                    for task, arguments in enumerate(tasks):
+                        result: Any
+                        # as map_tasks on a cluster: an error escaping the variant is its row's
+                        try:
+                            result = run_variant(*arguments)
+                        except Exception as error:
+                            result = Failure(f"{type(error).__name__}: {error}")
+                        done(task, result)
+                else:
+                    with dask_client(scheduler, workers) as (client, threads):
+                        map_tasks(
+                            client,
+                            run_variant,
+                            [(*task, threads) for task in tasks],
+                            f"sweep {path.stem}",
+                            progress,
+                            done,
+                        )
+        except KeyboardInterrupt:  # Ctrl-C or SIGTERM: the variants that did not end say so
+            for task, i in enumerate(where):
+                if task not in ended:
+                    rows[i].update(converged=False, error=INTERRUPTED)
+            if folder is not None:
+                table.write_csv(folder / "sweep.csv")
+            raise
         if folder is not None:
             table.write_csv(folder / "sweep.csv")
-        raise
-    if folder is not None:
-        table.write_csv(folder / "sweep.csv")
-    return table
+        return table
 
 
 @contextmanager

@@ -19,7 +19,7 @@ import numpy as np
 from femcore.checks import as_path
 from femcore.fingerprint import Fingerprint
 from femcore.mesh import Mesh
-from femcore.results import Frame, Result, write_vtu
+from femcore.results import Frame, Result, series_timesteps, write_vtu
 
 __all__ = [
     "CHECKPOINT_MAGIC",
@@ -59,10 +59,16 @@ def output_path(path: str | os.PathLike[str], suffix: str, what: str) -> Path:
 class FrameStream:
     """Frames written as they come: ``<stem>_<k>.vtu`` next to the ``.pvd`` index, which is
     rewritten after each frame. The solver then keeps only the first and the newest frame in
-    memory, so a long run's memory does not grow with its number of frames."""
+    memory, so a long run's memory does not grow with its number of frames. Each frame's
+    ``timestep`` in the index is its time while the times rise, else (``by_index``: a Static
+    arc-length path) its index (femcore.results.series_timesteps); the VTU frame keeps its
+    time and load factor as field data."""
 
-    def __init__(self, path: Path, mesh: Mesh, has_rotation: np.ndarray):
+    def __init__(self, path: Path, mesh: Mesh, has_rotation: np.ndarray, by_index: bool = False):
         self.path, self.mesh, self.has_rotation = path, mesh, has_rotation
+        # the index's timesteps: the frames' times, or their indices (femcore.results
+        # series_timesteps: a Static arc-length path's load factor falls past a limit point)
+        self.by_index = by_index
         self.entries: list[tuple[float, str]] = []  # (time, file name) per written frame
 
     def write(self, frame: Frame) -> None:
@@ -113,9 +119,10 @@ class FrameStream:
         self._write_index()
 
     def _write_index(self) -> None:
+        steps = series_timesteps([t for t, _ in self.entries], self.by_index)
         lines = [
-            f"    <DataSet timestep={quoteattr(repr(t))} file={quoteattr(name)}/>"
-            for t, name in self.entries
+            f"    <DataSet timestep={quoteattr(repr(step))} file={quoteattr(name)}/>"
+            for step, (_, name) in zip(steps, self.entries)
         ]
         text = (
             '<?xml version="1.0"?>\n<VTKFile type="Collection" version="0.1">\n'

@@ -96,7 +96,11 @@ class StaticRun:
         self.frames = [make_frame(model, self.state)]
         self.stream = None
         if solver.output is not None:
-            self.stream = FrameStream(solver.output, model.mesh, model.has_rotation.copy())
+            # an arc-length path's load factor (its frames' time) falls past a limit point
+            by_index = solver.path == "arc_length"
+            self.stream = FrameStream(
+                solver.output, model.mesh, model.has_rotation.copy(), by_index=by_index
+            )
             self.stream.write(self.frames[0])
         self.strain_energies = [model.strain_energy(self.state)]  # one per frame, N mm
         self.dissipations = [model.dissipated_energy(self.state)]  # friction's, N mm

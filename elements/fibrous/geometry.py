@@ -139,7 +139,7 @@ def cell_geometry(
 def node_thickness(block: FibrousShellBlock, geo: dict) -> np.ndarray:
     """Thickness along the director at the nodes (n,), mm, from a ``geometry`` ``geo``: h_m
     from the nodal normal, or with element normals the area-weighted mean of the per-element
-    h_m (docs/theory.md §1.4); 0 at nodes outside the block."""
+    h_m (docs/theory.md §1.4); 0 at nodes outside the block (the model's fields: NaN)."""
     if block.nodal_normals:  # every corner of a node holds the same h_m
         value = np.zeros(block.n_nodes)
         value[block.connectivity] = geo["thickness"]

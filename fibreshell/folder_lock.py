@@ -1,0 +1,197 @@
+"""One command at a time in an output folder: the lock file ``fibreshell.lock``.
+
+Two runs writing into one folder damage each other without a word: the second's cleaning
+(fibreshell.outputs.clean_run) removes the first's frames while its ``result.pvd`` still
+lists them, the second resumes from the first's checkpoint or appends to its
+``energies.csv``, and both exit 0. So ``run_case``, ``compare_case``, ``sweep`` and
+``identify`` hold the lock of the folder they write (``folder_lock``) from before they touch
+it until they return, and a second command there is refused at once, naming the first.
+
+The lock is a file created with ``O_CREAT | O_EXCL`` (atomic on every local file system and
+on NFS v3 and later), holding the holder's pid, host, start time and command as JSON. It is
+removed when the holder leaves the ``with`` block, whatever the way out (an error, Ctrl-C,
+SIGTERM through ``solvers.interruptible``). A holder killed outright (kill -9, a power cut)
+leaves it behind: a later command on the same host takes it over, with a warning, when the
+process it names has ended (or its pid now belongs to a process started at another time,
+read from ``/proc`` where there is one). A lock of another host, or on a system where
+whether a process lives cannot be asked without harming it (Windows: ``os.kill`` there ends
+the process), is never taken over: the message says which file to delete once no such run
+is going."""
+
+from __future__ import annotations
+
+import json
+import os
+import socket
+import sys
+import time
+import uuid
+import warnings
+from collections.abc import Iterator
+from contextlib import contextmanager
+from pathlib import Path
+from typing import Any
+
+__all__ = ["LOCK_FILE", "FolderInUse", "folder_lock", "holder"]
+
+# The lock's file name in the folder it guards (fibreshell.outputs: never a run's output,
+# never a checkpoint's name).
+LOCK_FILE = "fibreshell.lock"
+
+
+class FolderInUse(ValueError):
+    """The output folder is held by another command (its lock names it): a refusal before
+    anything is written, as a bad option is (``fibreshell`` exit status 2)."""
+
+
+def _process_start(pid: int) -> str | None:
+    """When process ``pid`` started, in clock ticks since boot (field 22 of
+    ``/proc/<pid>/stat``), or None where there is no ``/proc`` or no such process: a pid
+    reused by a later process has another start."""
+    try:
+        stat = Path(f"/proc/{pid}/stat").read_text()
+    except OSError:
+        return None
+    # The command name (field 2) is in parentheses and may hold spaces: split after it.
+    fields = stat[stat.rfind(")") + 2 :].split()
+    return fields[19] if len(fields) > 19 else None
+
+
+def _alive(record: dict[str, Any]) -> bool | None:
+    """Whether the process a lock names still runs: True, False, or None where it cannot be
+    told (another host, no POSIX ``kill``, a record without a pid)."""
+    pid = record.get("pid")
+    if record.get("host") != socket.gethostname() or not isinstance(pid, int) or pid <= 0:
+        return None
+    if os.name != "posix":  # os.kill(pid, 0) ends the process on Windows
+        return None
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return False
+    except PermissionError:  # another user's process: it runs
+        pass
+    started = record.get("process_start")
+    now = _process_start(pid)
+    return not (started is not None and now is not None and now != started)
+
+
+def holder(folder: Path) -> dict[str, Any] | None:
+    """The record of the lock in ``folder`` (pid, host, started, command), or None when the
+    folder is not locked; a lock file that cannot be read as one is ``{"unreadable": text}``."""
+    try:
+        text = (Path(folder) / LOCK_FILE).read_text()
+    except FileNotFoundError:
+        return None
+    except OSError as error:
+        return {"unreadable": str(error)}
+    try:
+        record = json.loads(text)
+    except ValueError:
+        return {"unreadable": text[:200]}
+    return record if isinstance(record, dict) else {"unreadable": text[:200]}
+
+
+def _describe(record: dict[str, Any]) -> str:
+    if "unreadable" in record:
+        return f"a lock file that cannot be read ({record['unreadable']!r})"
+    return (
+        f"{record.get('task', 'a command')} (pid {record.get('pid')} on host "
+        f"{record.get('host')!r}, started {record.get('started')}, command line "
+        f"{record.get('command')!r})"
+    )
+
+
+def _refusal(folder: Path, record: dict[str, Any], what: str) -> FolderInUse:
+    lock = folder / LOCK_FILE
+    return FolderInUse(
+        f"{what} {str(folder)!r} is in use by {_describe(record)}: two commands writing "
+        "into one folder remove and mix each other's files; wait for it to end or give "
+        f"another output folder (if no such command is running any more, delete {str(lock)!r})"
+    )
+
+
+def _take_over(lock: Path, stale: dict[str, Any]) -> bool:
+    """Remove the lock file ``lock`` if it still holds the record ``stale`` (of an ended
+    process): renamed aside first, so that of two commands taking it over at once only one
+    removes it, and a lock taken meanwhile by a third is put back. True when removed."""
+    aside = lock.with_name(f"{lock.name}.stale-{os.getpid()}-{uuid.uuid4().hex[:8]}")
+    try:
+        os.rename(lock, aside)
+    except FileNotFoundError:  # another command took it over first: try to create it again
+        return True
+    try:
+        moved = json.loads(aside.read_text())
+    except (OSError, ValueError):
+        moved = None
+    if moved != stale:  # not the stale lock any more: another's, put back
+        os.rename(aside, lock)
+        return False
+    aside.unlink(missing_ok=True)
+    return True
+
+
+@contextmanager
+def folder_lock(folder: Path, task: str, what: str = "the output folder") -> Iterator[Path]:
+    """Hold the lock of the existing folder ``folder`` for the ``with`` block.
+
+    Parameters
+    ----------
+    folder : pathlib.Path
+        The folder the command writes into (it must exist).
+    task : str
+        What holds it ("the run of cases/a.toml"), in the lock and in the message of a
+        command refused there, beside this process's command line.
+    what : str
+        The folder's name in messages ("the output folder", "--out").
+
+    Yields
+    ------
+    pathlib.Path
+        The lock file.
+
+    Raises
+    ------
+    FolderInUse
+        Another command holds the folder (a running process, one of another host, or a lock
+        that cannot be read): the message names it and the lock file.
+    """
+    folder = Path(folder)
+    lock = folder / LOCK_FILE
+    record = {
+        "pid": os.getpid(),
+        "host": socket.gethostname(),
+        "started": time.strftime("%Y-%m-%d %H:%M:%S UTC", time.gmtime()),
+        "task": task,
+        "command": " ".join([sys.executable, *sys.argv]),
+        "process_start": _process_start(os.getpid()),
+        "token": uuid.uuid4().hex,
+    }
+    for _ in range(3):  # a stale lock taken over, then created: a race lost twice is refused
+        try:
+            descriptor = os.open(lock, os.O_CREAT | os.O_EXCL | os.O_WRONLY, 0o644)
+        except FileExistsError:
+            other = holder(folder)
+            if other is None:  # released meanwhile
+                continue
+            if "unreadable" in other or _alive(other) is not False:
+                raise _refusal(folder, other, what) from None
+            if _take_over(lock, other):
+                warnings.warn(
+                    f"{str(lock)!r} was left by {_describe(other)}, which has ended (killed?); "
+                    "taken over: its outputs in the folder are replaced",
+                    UserWarning,
+                    stacklevel=3,
+                )
+            continue
+        with os.fdopen(descriptor, "w") as handle:
+            handle.write(json.dumps(record, indent=1) + "\n")
+        break
+    else:
+        raise _refusal(folder, holder(folder) or {"unreadable": "(gone)"}, what)
+    try:
+        yield lock
+    finally:
+        # Only our own lock: a user who deleted it and started another command keeps theirs.
+        if (holder(folder) or {}).get("token") == record["token"]:
+            lock.unlink(missing_ok=True)

@@ -1,0 +1,239 @@
+"""One command at a time in an output folder (fibreshell/folder_lock.py): a run, a comparison,
+a sweep or a fit into a folder another command is writing in is refused at once, naming the
+other (its pid, host, start and command line), and leaves that folder's files alone; the
+lock goes when its holder returns, whatever the way out; a lock left by a killed process of
+this host is taken over with a warning; one of another host is never.
+
+Before the lock, a second ``fibreshell run`` into a folder in use removed the first run's
+frames (its clean_run) and both exited 0: the read-only review found result.pvd listing
+frames that were gone, and energies.csv with the rows of two runs, time going backwards."""
+
+import json
+import os
+import socket
+import subprocess
+import sys
+import textwrap
+from pathlib import Path
+
+import pytest
+from test_interrupts import CASE, STATIC
+
+from fibreshell.case import CaseError, load_case
+from fibreshell.cli import main
+from fibreshell.folder_lock import LOCK_FILE, FolderInUse, folder_lock, holder
+from fibreshell.outputs import checkpoint_collision
+from fibreshell.run import run_case
+
+ROOT = Path(__file__).resolve().parents[1]
+THE_FIRST_RUNS_FILES = ("result.pvd", "result_00000.vtu", "energies.csv", "checkpoint.pkl")
+
+
+def case_file(tmp_path: Path, text: str = STATIC) -> Path:
+    path = tmp_path / "case.toml"
+    path.write_text(text)
+    return path
+
+
+def first_runs_files(out: Path) -> None:
+    out.mkdir(parents=True, exist_ok=True)
+    for name in THE_FIRST_RUNS_FILES:
+        (out / name).write_text(f"the first run's {name}")
+
+
+def kept_untouched(out: Path) -> bool:
+    return all(
+        (out / name).read_text() == f"the first run's {name}" for name in THE_FIRST_RUNS_FILES
+    )
+
+
+@pytest.fixture
+def other_process(tmp_path):
+    """Start a process that holds a folder's lock until its stdin closes: ``hold(folder)``
+    returns it (subprocess.Popen) once it holds it."""
+    children = []
+
+    def hold(folder: Path) -> subprocess.Popen:
+        folder.mkdir(parents=True, exist_ok=True)
+        script = textwrap.dedent(
+            f"""
+            import sys
+            from pathlib import Path
+            from fibreshell.folder_lock import folder_lock
+            with folder_lock(Path({str(folder)!r}), "the run of 'first.toml'"):
+                print("held", flush=True)
+                sys.stdin.read()
+            """
+        )
+        child = subprocess.Popen(
+            [sys.executable, "-c", script], stdin=subprocess.PIPE, stdout=subprocess.PIPE,
+            text=True, env=dict(os.environ, PYTHONPATH=str(ROOT)),
+        )  # fmt: skip
+        children.append(child)
+        assert child.stdout.readline().strip() == "held"
+        return child
+
+    yield hold
+    for child in children:
+        if not child.stdin.closed:
+            child.stdin.close()
+        child.wait(timeout=60)
+
+
+def a_dead_pid() -> int:
+    child = subprocess.Popen([sys.executable, "-c", "pass"])
+    child.wait()
+    return child.pid
+
+
+# ------------------------------------------------------------------ a folder in use
+def test_fibreshell_run_into_a_folder_another_process_writes_in_is_refused_naming_it(
+    tmp_path, other_process, capsys
+):
+    out = tmp_path / "out"
+    first_runs_files(out)
+    pid = other_process(out).pid
+    status = main(["run", str(case_file(tmp_path)), "--out", str(out), "--quiet"])
+    said = capsys.readouterr().err
+    assert status == 2  # as the command line's other refusals
+    assert "is in use by the run of 'first.toml'" in said and f"pid {pid} on host" in said
+    assert str(out / LOCK_FILE) in said and said.count("\n") == 1
+    assert kept_untouched(out)  # not cleaned, not resumed from, not appended to
+    assert not (out / "summary.json").exists() and holder(out)["pid"] == pid
+
+
+def test_the_folder_is_free_again_when_the_other_process_ends(tmp_path, other_process):
+    out = tmp_path / "out"
+    first = other_process(out)
+    case = load_case(case_file(tmp_path))
+    with pytest.raises(FolderInUse):
+        run_case(case, out, progress=False)
+    first.stdin.close()
+    assert first.wait(timeout=60) == 0 and not (out / LOCK_FILE).exists()
+    assert run_case(case, out, progress=False).status == "done"
+    assert not (out / LOCK_FILE).exists()
+
+
+def test_a_run_holds_its_folder_while_it_runs_and_releases_it_on_every_way_out(tmp_path):
+    case = load_case(case_file(tmp_path))
+    out = tmp_path / "out"
+    seen = []
+    import fibreshell.run as run_module
+
+    real = run_module._run_locked
+
+    def looking(*args):
+        seen.append(holder(out))
+        return real(*args)
+
+    run_module._run_locked = looking
+    try:
+        run_case(case, out, progress=False)
+    finally:
+        run_module._run_locked = real
+    assert seen[0]["pid"] == os.getpid() and seen[0]["host"] == socket.gethostname()
+    assert seen[0]["task"] == f"the run of {str(case.path)!r}"
+    assert not (out / LOCK_FILE).exists()
+    with pytest.raises(ValueError, match="nothing to resume"):  # refused inside the lock
+        run_case(case, out, progress=False, resume=True)
+    assert not (out / LOCK_FILE).exists()
+
+
+def test_a_second_thread_or_call_of_the_same_process_is_refused_too(tmp_path):
+    case = load_case(case_file(tmp_path))
+    out = tmp_path / "out"
+    out.mkdir()
+    with folder_lock(out, "the sweep of 'a.toml'"):
+        with pytest.raises(FolderInUse, match=f"pid {os.getpid()} on host"):
+            run_case(case, out, progress=False)
+        assert holder(out)["task"] == "the sweep of 'a.toml'"  # the refused one left it
+    assert not (out / LOCK_FILE).exists()
+
+
+def test_compare_sweep_and_identify_refuse_a_folder_in_use_before_any_run(
+    tmp_path, other_process, capsys
+):
+    from fibreshell.identify import identify
+    from fibreshell.sweep import sweep
+
+    path = case_file(tmp_path, CASE)
+    out = tmp_path / "out"
+    first_runs_files(out / "fibrous")
+    other_process(out)
+    with pytest.raises(FolderInUse, match="in use by the run of 'first.toml'"):
+        sweep(path, {"part.0.material.bending": [5.0, 10.0]}, out=out, in_process=True)
+    with pytest.raises(FolderInUse, match="in use by the run of 'first.toml'"):
+        identify(path, {"displacement_tip_z": [-1.0]}, {"part.0.material.bending": None}, out=out)
+    assert main(["compare", str(path), "--out", str(out), "--quiet"]) == 2
+    assert "in use by the run of 'first.toml'" in capsys.readouterr().err
+    assert kept_untouched(out / "fibrous")
+    assert not (out / "sweep.json").exists() and not (out / "variant-000").exists()
+
+
+def test_compare_does_not_empty_a_kinematics_folder_another_run_writes_in(tmp_path, other_process):
+    from fibreshell.compare import compare_case
+
+    out = tmp_path / "out"
+    first_runs_files(out / "fibrous")
+    other_process(out / "fibrous")  # fibreshell run --out out/fibrous, going on
+    with pytest.raises(FolderInUse, match="in use by the run of 'first.toml'"):
+        compare_case(load_case(case_file(tmp_path, CASE)), out, progress=False)
+    assert kept_untouched(out / "fibrous")
+    assert not (out / LOCK_FILE).exists()  # the comparison let go of its own folder
+
+
+# ------------------------------------------------------------------ locks left behind
+def test_a_lock_left_by_a_killed_process_of_this_host_is_taken_over_with_a_warning(tmp_path):
+    out = tmp_path / "out"
+    first_runs_files(out)
+    dead = a_dead_pid()
+    left = {"pid": dead, "host": socket.gethostname(), "started": "2026-01-01 00:00:00 UTC",
+            "task": "the run of 'killed.toml'", "command": "fibreshell run k.toml"}  # fmt: skip
+    (out / LOCK_FILE).write_text(json.dumps(left))
+    with pytest.warns(UserWarning, match=f"left by the run of 'killed.toml' \\(pid {dead}"):
+        run = run_case(load_case(case_file(tmp_path)), out, progress=False)
+    assert run.status == "done" and (out / "summary.json").exists()
+    assert sorted(p.name for p in out.iterdir() if "lock" in p.name) == []
+
+
+def test_a_lock_of_a_pid_now_used_by_a_later_process_is_taken_over(tmp_path):
+    if not Path(f"/proc/{os.getpid()}/stat").exists():
+        pytest.skip("no /proc: a process's start cannot be read")
+    out = tmp_path / "out"
+    out.mkdir()
+    left = {"pid": os.getppid(), "host": socket.gethostname(), "process_start": "1",
+            "task": "the run of 'killed.toml'"}  # fmt: skip
+    (out / LOCK_FILE).write_text(json.dumps(left))
+    with pytest.warns(UserWarning, match="has ended"):
+        with folder_lock(out, "the run of 'b.toml'") as lock:
+            assert json.loads(lock.read_text())["task"] == "the run of 'b.toml'"
+
+
+@pytest.mark.parametrize(
+    "left, said",
+    [
+        ({"pid": 1, "host": "another-machine", "task": "the run of 'far.toml'"},
+         "host 'another-machine'"),
+        ({"pid": os.getpid(), "host": socket.gethostname(), "task": "the run of 'here.toml'"},
+         f"pid {os.getpid()}"),
+        ("not json", "a lock file that cannot be read"),
+    ],
+)  # fmt: skip
+def test_a_lock_of_another_host_a_living_process_or_unreadable_is_never_taken_over(
+    tmp_path, left, said
+):
+    out = tmp_path / "out"
+    first_runs_files(out)
+    (out / LOCK_FILE).write_text(left if isinstance(left, str) else json.dumps(left))
+    with pytest.raises(FolderInUse, match="delete") as refused:
+        run_case(load_case(case_file(tmp_path)), out, progress=False)
+    assert said in str(refused.value) and kept_untouched(out)
+    assert (out / LOCK_FILE).exists()
+
+
+def test_a_checkpoint_may_not_be_named_as_the_lock(tmp_path):
+    assert "lock" in checkpoint_collision(LOCK_FILE)
+    text = STATIC.replace('kind = "static"', 'kind = "relaxation"') + "\n"
+    text = text.replace("[output]", f'checkpoint = "{LOCK_FILE}"\n[output]')
+    with pytest.raises(CaseError, match="lock"):
+        load_case(case_file(tmp_path, text))
