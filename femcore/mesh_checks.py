@@ -10,6 +10,7 @@ cells, one pass over the points), so they cost little next to building the mesh.
 from __future__ import annotations
 
 import inspect
+import warnings
 from collections.abc import Callable, Mapping
 from typing import Any
 
@@ -19,10 +20,12 @@ from numpy.typing import ArrayLike
 __all__ = [
     "COORDINATE_LIMIT",
     "MIN_EXTENT",
+    "THICK_SHELL_SPAN",
     "add_set",
     "as_mapping",
     "check_coordinates",
     "check_distinct_cells",
+    "check_thickness_scale",
     "read_only",
     "select_by_predicate",
     "sorted_unique",
@@ -279,3 +282,47 @@ def select_by_predicate(points: np.ndarray, predicate: Callable[..., Any]) -> np
             f"{label} returned an array of dtype {mask.dtype}, expected bool: {_PREDICATE_FORM}"
         )
     return np.flatnonzero(mask)
+
+
+# A shell thicker than a quarter of its block's span is no thin structure in any units; one
+# thicker than its span is a section and a mesh in two systems of units (a mesh in m beside a
+# thickness in mm: 1000 x too thick).
+THICK_SHELL_SPAN = 0.25
+
+
+def check_thickness_scale(points: np.ndarray, cells: np.ndarray, thickness: float, what: str):
+    """Refuse a shell thicker than its cells' span, warn for one thicker than a quarter of it.
+
+    Parameters
+    ----------
+    points : (n, 3) float
+        The mesh's node coordinates (length units).
+    cells : (c, k) int
+        The block's cells.
+    thickness : float
+        The section's thickness, in the units of the material.
+    what : str
+        The element type, for the message.
+
+    Raises
+    ------
+    ValueError
+        ``thickness`` above the largest extent of the block's nodes along x, y or z: almost
+        always a mesh in m with a material in mm (or the other way round).
+    """
+    nodes = points[np.unique(cells)]
+    span = float(np.ptp(nodes, axis=0).max()) if len(nodes) else 0.0
+    if span <= 0.0 or thickness <= THICK_SHELL_SPAN * span:
+        return
+    text = (
+        f"{what} thickness {thickness:g} is {thickness / span:.3g} x the largest extent of "
+        f"its cells ({span:g}): is the mesh in m and the material in mm (or the other way "
+        "round)? Give both in one system of units (mm, N, t, s or m, N, kg, s)"
+    )
+    if thickness > span:
+        raise ValueError(text)
+    warnings.warn(
+        f"{text}; a shell thicker than {THICK_SHELL_SPAN:g} of its span is no thin shell",
+        UserWarning,
+        stacklevel=4,
+    )
