@@ -686,8 +686,9 @@ class Mesh(ReadOnlyState):
         ------
         ValueError
             A missing file or a directory, unknown format, unreadable file, other cell
-            types, no cell of a known kind, an Abaqus deck with several *NODE blocks or a
-            set of sets naming an unknown set, a mesh too large for the memory available
+            types, no cell of a known kind, an Abaqus deck with several *NODE blocks, a
+            set of sets naming an unknown set, or an assembly of several *INSTANCE entries
+            or a moved one (each naming the file and the line), a mesh too large for the memory available
             (femcore.memory), or any check of the constructor (e.g. the same triangle
             twice).
         """

@@ -92,6 +92,27 @@ def _checked_deck(path: Path) -> DeckScan:
             f"{path} has {deck.node_blocks} *NODE blocks; the .inp reader (meshio) keeps only "
             "the last one: gather the nodes in one *NODE block"
         )
+    if len(deck.instances) > 1:
+        listed = ", ".join(f"{name!r} (line {line})" for line, name, _ in deck.instances)
+        raise ValueError(
+            f"{path} has {len(deck.instances)} *INSTANCE entries, {listed}; the .inp reader "
+            "reads each part's mesh once, at the part's own coordinates, and the sets of "
+            "every instance on that one copy: write the assembly as one flat mesh (one *NODE "
+            "block, no *PART), or keep one instance"
+        )
+    for line, name, moves in deck.instances:
+        # A translation line (3 numbers), then a rotation line (7, the angle last).
+        moved = any(
+            len(move) > 0 and not all(v == 0.0 for v in (move[-1:] if i else move))
+            for i, move in enumerate(moves)
+        )
+        if moved:
+            raise ValueError(
+                f"{path}: *INSTANCE {name!r} (line {line}) is moved or rotated, by "
+                f"{'; '.join(', '.join(f'{v:g}' for v in m) for m in moves)}; the .inp reader "
+                "reads the part's mesh at its own coordinates: write the mesh where it stands "
+                "(no *PART), or the instance unmoved"
+            )
     return deck
 
 
