@@ -284,14 +284,14 @@ def select_by_predicate(points: np.ndarray, predicate: Callable[..., Any]) -> np
     return np.flatnonzero(mask)
 
 
-# A shell thicker than a quarter of its block's span is no thin structure in any units; one
+# A shell thicker than half its block's span is no thin structure in any units; one
 # thicker than its span is a section and a mesh in two systems of units (a mesh in m beside a
 # thickness in mm: 1000 x too thick).
-THICK_SHELL_SPAN = 0.25
+THICK_SHELL_SPAN = 0.5
 
 
 def check_thickness_scale(points: np.ndarray, cells: np.ndarray, thickness: float, what: str):
-    """Refuse a shell thicker than its cells' span, warn for one thicker than a quarter of it.
+    """Refuse a shell thicker than its cells' span, warn for one thicker than half of it.
 
     Parameters
     ----------
