@@ -6,6 +6,7 @@ and the known losses, and delegate to :func:`read_mesh` and :func:`write_mesh` h
 
 from __future__ import annotations
 
+import tempfile
 import warnings
 from collections.abc import Iterator, Sequence
 from pathlib import Path
@@ -17,6 +18,7 @@ from numpy.typing import ArrayLike
 
 from femcore.checks import as_path
 from femcore.inp_deck import DeckScan, scan_deck
+from femcore.inp_sets import resolve_deck_sets, scan_deck_sets
 from femcore.memory import check_mesh_memory
 from femcore.mesh import CELL_KINDS, Mesh
 from femcore.mesh_checks import sorted_unique
@@ -43,8 +45,22 @@ def read_mesh(path: str | Path, file_format: str | None = None) -> Mesh:
         raise ValueError(f"mesh file {path} does not exist")
     fmt = _resolve_format(path, file_format, writing=False)
     deck = _checked_deck(path) if fmt == "abaqus" else DeckScan()
+    # The sets of a deck without *INCLUDE are read here by Abaqus's rules (femcore.inp_sets),
+    # meshio reading its nodes and elements only.
+    own_sets = None
+    if fmt == "abaqus" and not deck.includes:
+        try:
+            own_sets = scan_deck_sets(path)
+        except UnicodeDecodeError:
+            pass  # not a text file: meshio's reading below says so
     try:
-        raw = meshio.read(path, file_format=fmt)
+        if own_sets is None:
+            raw = meshio.read(path, file_format=fmt)
+        else:
+            with tempfile.TemporaryDirectory() as folder:
+                bare = Path(folder) / path.name
+                bare.write_text(own_sets.mesh_text, encoding="utf-8")
+                raw = meshio.read(bare, file_format=fmt)
     except SystemExit as err:  # meshio's VTU reader ends the process on a corrupt file
         raise ValueError(f"cannot read {path} as {fmt!r}: not a valid {fmt} file") from err
     except UnicodeDecodeError as err:
@@ -66,7 +82,11 @@ def read_mesh(path: str | Path, file_format: str | None = None) -> Mesh:
         raise ValueError(
             f"cannot read {path} as {fmt!r}: {type(err).__name__}: {err}{hint}"
         ) from err
-    if fmt == "abaqus":
+    if own_sets is not None and len(raw.cells) == len(own_sets.element_numbers):
+        raw.point_sets, raw.cell_sets = resolve_deck_sets(
+            own_sets, [block.data.shape[1] for block in raw.cells], path
+        )
+    elif fmt == "abaqus":
         raw = _abaqus_element_sets(raw, deck)
     # Quads become two triangles each; the rest one cell each (vertex cells are dropped).
     n_cells = sum(len(block.data) * (2 if block.type == "quad" else 1) for block in raw.cells)
