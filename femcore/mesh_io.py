@@ -45,6 +45,8 @@ def read_mesh(path: str | Path, file_format: str | None = None) -> Mesh:
         raise ValueError(f"mesh file {path} does not exist")
     fmt = _resolve_format(path, file_format, writing=False)
     deck = _checked_deck(path) if fmt == "abaqus" else DeckScan()
+    if fmt == "gmsh":
+        _check_physical_names(path)
     # The sets of a deck without *INCLUDE are read here by Abaqus's rules (femcore.inp_sets),
     # meshio reading its nodes and elements only.
     own_sets = None
@@ -484,12 +486,44 @@ def _mesh_from_meshio(raw: meshio.Mesh, source: str) -> Mesh:
             stacklevel=4,
         )
 
-    return Mesh(
-        raw.points,
-        node_sets=sets["node"],
-        cells=blocks.connectivity,
-        cell_sets={kind: sets[kind] for kind in CELL_KINDS},
-    )
+    try:
+        return Mesh(
+            raw.points,
+            node_sets=sets["node"],
+            cells=blocks.connectivity,
+            cell_sets={kind: sets[kind] for kind in CELL_KINDS},
+        )
+    except ValueError as error:  # a degenerate cell, a set name .inp cannot hold: the file
+        raise ValueError(f"{source}: {error}") from None
+
+
+def _check_physical_names(path: Path) -> None:
+    """ValueError naming the file and the groups for two gmsh physical groups of one name
+    (meshio keeps one of them, and its sets alone: a curve "plate" beside a surface "plate"
+    lost its line set) or a name a set cannot take (, = " or a line break: .inp and .msh
+    files could not hold it)."""
+    with open(path, "rb") as handle:  # the section is text in binary files too
+        text = handle.read().decode("utf-8", errors="replace")
+    start = text.find("$PhysicalNames")
+    end = text.find("$EndPhysicalNames", start)
+    if start < 0 or end < 0:
+        return
+    seen: dict[str, tuple[str, str]] = {}
+    for row in text[start:end].splitlines()[2:]:
+        dim, tag, quoted = (row.split(maxsplit=2) + ["", "", ""])[:3]
+        name = quoted.strip().strip('"')
+        if name in seen:
+            raise ValueError(
+                f"{path}: the physical groups {name!r} of dimension {seen[name][0]} (tag "
+                f"{seen[name][1]}) and of dimension {dim} (tag {tag}) share a name, and the "
+                "reader would keep the sets of one of them only: give them distinct names"
+            )
+        seen[name] = (dim, tag)
+        if set(name) & set(',="'):
+            raise ValueError(
+                f"{path}: the physical group {name!r} (dimension {dim}, tag {tag}) has a name "
+                'a set cannot take (no , = or ", which .inp and .msh files use): rename it'
+            )
 
 
 def _physical_groups(raw: meshio.Mesh, kinds: list[str]) -> dict[str, tuple[int, list]]:
