@@ -692,9 +692,9 @@ class Mesh(ReadOnlyState):
             node or an element the deck does not define, a GENERATE line that is not
             ``first, last[, increment]``, an element repeating a node (each naming the file
             and the line: femcore.inp_sets), two gmsh physical groups of one name or one
-            whose name a set cannot take (naming the file and the groups), a mesh too large for the memory available
-            (femcore.memory), or any check of the constructor (e.g. the same triangle
-            twice).
+            whose name a set cannot take (naming the file and the groups), a mesh too
+            large for the memory available (femcore.memory), or any check of the
+            constructor (e.g. the same triangle twice; naming the file).
         """
         from femcore.mesh_io import read_mesh
 
