@@ -265,6 +265,21 @@ class Case:
         # Compiled here, where each entry's table is known (the solver reuses it): an error
         # of binding or applying one names the file, the table and the key.
         model = located.compile()
+        # A history set on nodes of cells that no part covers (a line of the mesh without a
+        # cable part) would read 0 in every row: refused as one on nodes of no cell is.
+        carried = np.any(model.compile().dofs.active, axis=1, keepdims=False).reshape(-1)
+        inner = top.child("output").child("history")
+        for key, names in self.history.items():
+            for name in names:
+                ids = self.mesh.nodes(name)
+                bare = ids[~carried[ids]]
+                if bare.size:
+                    raise inner.error(
+                        key,
+                        f"node set {name!r} holds {bare.size} node(s) that no part's cells use "
+                        f"(node {int(bare[0])}, at {self.mesh.points[bare[0]].tolist()}): they "
+                        "carry no DOF; give a set of the nodes of the parts",
+                    )
         return model
 
     def make_solver(self, **outputs):

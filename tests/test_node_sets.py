@@ -299,3 +299,21 @@ def test_a_history_set_with_a_node_no_cell_uses_is_refused_naming_the_set(tmp_pa
     message = str(caught.value)
     assert f"[output.history.{key}]" in message and "'edge_and_stray'" in message
     assert "[50.0, 50.0, 0.0]" in message and "no cell uses" in message
+
+
+def test_a_history_set_on_nodes_of_cells_no_part_covers_is_refused_as_the_model_is_built(
+    tmp_path,
+):
+    """A bar (T3D2) of the deck out to node 7 with no cable part: node 7 carries no DOF."""
+    text = (
+        STRAY_NODE_DECK.replace(" 999, 50., 50., 0.\n", " 999, 50., 50., 0.\n 7, 30., 0., 0.\n")
+        + "*Element, type=T3D2, elset=bar\n 9, 103, 7\n*Nset, nset=bar_end\n 7\n"
+    )
+    (tmp_path / "plate.inp").write_text(text)
+    data = {**strip({}, output={"history": {"displacements": ["bar_end"]}}),
+            "mesh": {"file": "plate.inp"}}  # fmt: skip
+    data["part"][0]["cells"] = "plate"
+    case = case_from_data(data, tmp_path / "case.toml")
+    refused = r"\[output\.history\.displacements\]: node set 'bar_end' holds 1 node\(s\) that"
+    with pytest.raises(CaseError, match=refused + " no part's cells use"):
+        case.model()
