@@ -502,14 +502,19 @@ def _check_physical_names(path: Path) -> None:
     (meshio keeps one of them, and its sets alone: a curve "plate" beside a surface "plate"
     lost its line set) or a name a set cannot take (, = " or a line break: .inp and .msh
     files could not hold it)."""
-    with open(path, "rb") as handle:  # the section is text in binary files too
-        text = handle.read().decode("utf-8", errors="replace")
-    start = text.find("$PhysicalNames")
-    end = text.find("$EndPhysicalNames", start)
-    if start < 0 or end < 0:
-        return
+    rows: list[str] = []
+    with open(path, "rb") as handle:  # the section is text in binary files too, near the top
+        inside = False
+        for raw_line in handle:
+            line = raw_line.decode("utf-8", errors="replace").strip()
+            if line == "$PhysicalNames":
+                inside = True
+            elif line == "$EndPhysicalNames" or (not inside and line in ("$Nodes", "$Entities")):
+                break
+            elif inside:
+                rows.append(line)
     seen: dict[str, tuple[str, str]] = {}
-    for row in text[start:end].splitlines()[2:]:
+    for row in rows[1:]:  # after the count
         dim, tag, quoted = (row.split(maxsplit=2) + ["", "", ""])[:3]
         name = quoted.strip().strip('"')
         if name in seen:
