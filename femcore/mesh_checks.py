@@ -20,7 +20,7 @@ from numpy.typing import ArrayLike
 __all__ = [
     "COORDINATE_LIMIT",
     "MIN_EXTENT",
-    "THICK_SHELL_SPAN",
+    "THICK_SHELL_CELLS",
     "add_set",
     "as_mapping",
     "check_coordinates",
@@ -284,14 +284,17 @@ def select_by_predicate(points: np.ndarray, predicate: Callable[..., Any]) -> np
     return np.flatnonzero(mask)
 
 
-# A shell thicker than half its block's span is no thin structure in any units; one
-# thicker than its span is a section and a mesh in two systems of units (a mesh in m beside a
-# thickness in mm: 1000 x too thick).
-THICK_SHELL_SPAN = 0.5
+# A shell thicker than its block's span is a section and a mesh in two systems of units (a
+# mesh in m beside a thickness in mm: 1000 x too thick); one thicker than ten times its
+# cells' median edge is almost always the same mistake on a mesh too large for the first
+# test to see it (a 2 m part in m with 5 cm cells and a 1 mm sheet in mm), while the meshes
+# of thin shells have cells longer than, or a few times shorter than, their thickness.
+THICK_SHELL_CELLS = 10.0
 
 
 def check_thickness_scale(points: np.ndarray, cells: np.ndarray, thickness: float, what: str):
-    """Refuse a shell thicker than its cells' span, warn for one thicker than half of it.
+    """Refuse a shell thicker than its cells' span; warn for one thicker than
+    ``THICK_SHELL_CELLS`` times their median edge.
 
     Parameters
     ----------
@@ -310,19 +313,26 @@ def check_thickness_scale(points: np.ndarray, cells: np.ndarray, thickness: floa
         ``thickness`` above the largest extent of the block's nodes along x, y or z: almost
         always a mesh in m with a material in mm (or the other way round).
     """
-    nodes = points[np.unique(cells)]
-    span = float(np.ptp(nodes, axis=0).max()) if len(nodes) else 0.0
-    if span <= 0.0 or thickness <= THICK_SHELL_SPAN * span:
+    if not len(cells):
         return
-    text = (
-        f"{what} thickness {thickness:g} is {thickness / span:.3g} x the largest extent of "
-        f"its cells ({span:g}): is the mesh in m and the material in mm (or the other way "
-        "round)? Give both in one system of units (mm, N, t, s or m, N, kg, s)"
+    corners = points[cells]  # (c, k, 3)
+    span = float(np.ptp(corners.reshape(-1, 3), axis=0).max())
+    edges = np.linalg.norm(corners - np.roll(corners, 1, axis=1), axis=2)
+    edge = float(np.median(edges))
+    way_out = (
+        "is the mesh in m and the material in mm (or the other way round)? Give both in one "
+        "system of units (mm, N, t, s or m, N, kg, s)"
     )
-    if thickness > span:
-        raise ValueError(text)
-    warnings.warn(
-        f"{text}; a shell thicker than {THICK_SHELL_SPAN:g} of its span is no thin shell",
-        UserWarning,
-        stacklevel=4,
-    )
+    if span > 0.0 and thickness > span:
+        raise ValueError(
+            f"{what} thickness {thickness:g} is {thickness / span:.3g} x the largest extent of "
+            f"its cells ({span:g}): {way_out}"
+        )
+    if edge > 0.0 and thickness > THICK_SHELL_CELLS * edge:
+        warnings.warn(
+            f"{what} thickness {thickness:g} is {thickness / edge:.3g} x the median edge of its "
+            f"cells ({edge:g}; a shell's cells are rarely more than a few times shorter than "
+            f"its thickness): {way_out}",
+            UserWarning,
+            stacklevel=4,
+        )

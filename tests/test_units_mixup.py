@@ -1,7 +1,8 @@
 """Units: any consistent system is a valid model, a mix of two is caught. A material whose
 values all fit mm, N, t, s or all fit m, N, kg, s is quiet; one that mixes them (a density in
 kg/m^3 beside lengths in mm) warns; a shell thicker than its mesh's span (a mesh in m with a
-material in mm) is refused, and one thicker than half of it draws a warning."""
+material in mm) is refused, and one thicker than ten times its cells' median edge draws a
+warning."""
 
 import re
 import warnings
@@ -57,11 +58,14 @@ def test_a_mesh_in_metres_with_a_material_in_millimetres_is_refused():
         case.model()
 
 
-def test_a_shell_thicker_than_half_its_span_warns_and_a_thinner_one_is_quiet():
-    mesh = Mesh.rectangle(10.0, 10.0, 2, 2)
-    thick = MindlinShell(ElasticShell(E=1e3, nu=0.3, thickness=6.0, density=1e-9))
-    with pytest.warns(UserWarning, match=r"thickness 6 is 0.6 x the largest extent"):
-        Model(mesh).add(thick)
+def test_a_shell_thicker_than_ten_times_its_cells_warns_and_a_thinner_one_is_quiet():
+    """A 20 m roof in m, 0.5 m cells (each triangle's edges 0.5, 0.5 and 0.707: median 0.5),
+    a 7 mm sheet written in mm: within the span (20), 14 x the median edge."""
+    mesh = Mesh.rectangle(20.0, 20.0, 40, 40)
+    sheet = MindlinShell(ElasticShell(E=70e3, nu=0.3, thickness=7.0, density=2.7e-9))
+    with pytest.warns(UserWarning, match=r"thickness 7 is 14 x the median edge of its cells "
+                                         r"\(0.5; .*is the mesh in m"):  # fmt: skip
+        Model(mesh).add(sheet)
     with warnings.catch_warnings():
         warnings.simplefilter("error")
-        Model(mesh).add(MindlinShell(ElasticShell(E=1e3, nu=0.3, thickness=5.0, density=1e-9)))
+        Model(mesh).add(MindlinShell(ElasticShell(E=70e3, nu=0.3, thickness=4.9, density=2.7e-9)))
