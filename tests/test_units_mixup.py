@@ -59,7 +59,7 @@ def test_a_mesh_in_metres_with_a_material_in_millimetres_is_refused():
 
 
 def test_a_shell_thicker_than_ten_times_its_cells_warns_and_a_thinner_one_is_quiet():
-    """A 20 m roof in m, 0.5 m cells (each triangle's edges 0.5, 0.5 and 0.707: median 0.5),
+    """A 20 m roof in m, 0.5 m cells (each triangle's sides 0.5, its diagonal 0.707),
     a 7 mm sheet written in mm: within the span (20), 14 x the median edge."""
     mesh = Mesh.rectangle(20.0, 20.0, 40, 40)
     sheet = MindlinShell(ElasticShell(E=70e3, nu=0.3, thickness=7.0, density=2.7e-9))
