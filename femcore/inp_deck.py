@@ -99,8 +99,10 @@ def scan_deck(path: str | Path) -> DeckScan:
             if not line.startswith("*"):
                 if instance is not None and line.strip():
                     instance.append(_numbers(line))
+                if current_set is None:  # a node's or an element's line: nothing to note
+                    continue
                 names = [item.strip() for item in line.split(",") if item.strip()]
-                if current_set is not None and names and not names[0][0].isdigit():
+                if names and not names[0][0].isdigit():
                     current_set[2].extend(names)
                 continue
             if current_set is not None and current_set[2]:

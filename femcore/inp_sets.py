@@ -12,6 +12,7 @@ then reads the deck's nodes and elements from a copy without its *NSET and *ELSE
 
 from __future__ import annotations
 
+from bisect import bisect_right
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -30,8 +31,10 @@ class DeckSets:
         The deck without its *NSET and *ELSET blocks, for meshio to read nodes and elements.
     node_labels : dict[int, int]
         Node label -> index (the order of the *NODE block's lines, meshio's).
-    element_numbers : list[list[tuple[int, int]]]
-        Per *ELEMENT block, each integer of its data lines with its line number.
+    element_numbers : list[list[int]]
+        Per *ELEMENT block, the integers of its data lines (label, nodes, label, ...).
+    element_lines : list[list[tuple[int, int]]]
+        Per *ELEMENT block, (index of a data line's first integer, its line number).
     sets : list[tuple[str, str, bool, int, list[tuple[int, list[str]]]]]
         (NSET or ELSET, name, GENERATE, keyword line, [(line number, items)]) in file order.
     block_sets : list[tuple[str, str, int]]
@@ -40,7 +43,8 @@ class DeckSets:
 
     mesh_text: str = ""
     node_labels: dict[int, int] = field(default_factory=dict)
-    element_numbers: list[list[tuple[int, int]]] = field(default_factory=list)
+    element_numbers: list[list[int]] = field(default_factory=list)
+    element_lines: list[list[tuple[int, int]]] = field(default_factory=list)
     sets: list[tuple[str, str, bool, int, list[tuple[int, list[str]]]]] = field(
         default_factory=list
     )
@@ -79,26 +83,31 @@ def scan_deck_sets(path: Path) -> DeckSets:
                 deck.block_sets.append(("NSET", parameters["NSET"], -1))
             if mode == "ELEMENT":
                 deck.element_numbers.append([])
+                deck.element_lines.append([])
                 if parameters.get("ELSET"):
                     block = len(deck.element_numbers) - 1
                     deck.block_sets.append(("ELSET", parameters["ELSET"], block))
             keep.append(line)
             continue
-        items = [item.strip() for item in line.split(",") if item.strip()]
         if mode in ("NSET", "ELSET"):
+            items = [item.strip() for item in line.split(",") if item.strip()]
             if items:
                 deck.sets[-1][4].append((number, items))
             continue
         keep.append(line)
-        if not items:
-            continue
         if mode == "NODE":
-            if items[0].lstrip("+-").isdigit():
-                deck.node_labels[int(items[0])] = len(deck.node_labels)
+            label = line.split(",", 1)[0].strip()
+            if label.lstrip("+-").isdigit():
+                deck.node_labels[int(label)] = len(deck.node_labels)
         elif mode == "ELEMENT":
-            deck.element_numbers[-1].extend(
-                (int(item), number) for item in items if item.lstrip("+-").isdigit()
-            )
+            numbers = deck.element_numbers[-1]
+            before = len(numbers)
+            try:
+                numbers.extend(map(int, line.replace(",", " ").split()))
+            except ValueError:
+                del numbers[before:]  # meshio says what is wrong with the line
+            if len(numbers) > before:
+                deck.element_lines[-1].append((before, number))
     deck.mesh_text = "\n".join(keep) + "\n"
     return deck
 
@@ -118,22 +127,34 @@ def resolve_deck_sets(
         a node or an element the deck does not define, a set name no set before it defines,
         an element that repeats a node (a collapsed quadrilateral).
     """
-    elements: dict[int, tuple[int, int]] = {}  # label -> (block, local index)
-    sizes = []
+    per_block_labels: list[np.ndarray] = []
+    blocks: list[np.ndarray] = []
+    locals_: list[np.ndarray] = []
+    sizes: list[int] = []
     for block, (numbers, per_cell) in enumerate(
         zip(deck.element_numbers, nodes_per_cell, strict=True)
     ):
-        rows = np.array([value for value, _ in numbers], dtype=np.int64).reshape(-1, per_cell + 1)
+        rows = np.array(numbers, dtype=np.int64).reshape(-1, per_cell + 1)
         sizes.append(len(rows))
-        for local, row in enumerate(rows):
-            line = numbers[local * (per_cell + 1)][1]
-            if len(set(row[1:].tolist())) < per_cell:
-                raise ValueError(
-                    f"{path}: line {line}: element {row[0]} repeats a node in "
-                    f"{tuple(row[1:].tolist())} (a collapsed element): write it as the "
-                    "element it is (an S3 triangle for a quadrilateral with one side collapsed)"
-                )
-            elements[int(row[0])] = (block, local)
+        ordered = np.sort(rows[:, 1:], axis=1)
+        repeats = np.flatnonzero((ordered[:, 1:] == ordered[:, :-1]).any(axis=1))
+        if repeats.size:
+            row = rows[repeats[0]]
+            starts = deck.element_lines[block]
+            line = starts[bisect_right(starts, (int(repeats[0]) * (per_cell + 1), 1 << 62)) - 1][1]
+            raise ValueError(
+                f"{path}: line {line}: element {row[0]} repeats a node in "
+                f"{tuple(row[1:].tolist())} (a collapsed element): write it as the "
+                "element it is (an S3 triangle for a quadrilateral with one side collapsed)"
+            )
+        per_block_labels.append(rows[:, 0])
+        blocks.append(np.full(len(rows), block, dtype=np.int64))
+        locals_.append(np.arange(len(rows), dtype=np.int64))
+    elements = _Labels(np.concatenate(per_block_labels or [np.zeros(0, np.int64)]))
+    element_block = np.concatenate(blocks or [np.zeros(0, np.int64)])
+    element_local = np.concatenate(locals_ or [np.zeros(0, np.int64)])
+    nodes = _Labels(np.fromiter(deck.node_labels, dtype=np.int64, count=len(deck.node_labels)))
+    node_index = np.fromiter(deck.node_labels.values(), np.int64, len(deck.node_labels))
     point_sets: dict[str, np.ndarray] = {}
     cell_sets: dict[str, list[np.ndarray]] = {}
     for kind, name, block in deck.block_sets:
@@ -167,38 +188,52 @@ def resolve_deck_sets(
                 f"(known: {sorted(store)})"
             )
         if kind == "NSET":
-            missing = [label for label in labels if label not in deck.node_labels]
+            found = nodes.find(labels)
+            missing = np.asarray(labels, dtype=np.int64)[found < 0].tolist()
             if missing:
                 raise ValueError(
                     f"{what} names node {missing[0]}"
                     f"{f' (and {len(missing) - 1} more)' if len(missing) > 1 else ''}, which "
                     "the deck does not define"
                 )
-            ids = [np.array([deck.node_labels[label] for label in labels], dtype=np.int64)]
+            ids = [node_index[found]]
             ids += [point_sets[member] for member in members]
             point_sets[name] = np.unique(np.concatenate(ids))
         else:
-            missing = [label for label in labels if label not in elements]
+            found = elements.find(labels)
+            missing = np.asarray(labels, dtype=np.int64)[found < 0].tolist()
             if missing:
                 raise ValueError(
                     f"{what} names element {missing[0]}"
                     f"{f' (and {len(missing) - 1} more)' if len(missing) > 1 else ''}, which "
                     "the deck does not define"
                 )
-            per_block: list[list[int]] = [[] for _ in sizes]
-            for label in labels:
-                block, local = elements[label]
-                per_block[block].append(local)
             cell_sets[name] = [
                 np.unique(
                     np.concatenate(
-                        [np.array(own, dtype=np.int64)]
+                        [element_local[found][element_block[found] == block]]
                         + [cell_sets[member][block] for member in members]
                     )
                 )
-                for block, own in enumerate(per_block)
+                for block in range(len(sizes))
             ]
     return point_sets, cell_sets
+
+
+class _Labels:
+    """Labels (Abaqus's node or element numbers) found by binary search."""
+
+    def __init__(self, labels: np.ndarray) -> None:
+        self.order = np.argsort(labels, kind="stable")
+        self.sorted = labels[self.order]
+
+    def find(self, wanted: list[int]) -> np.ndarray:
+        """The index of each wanted label in the labels given, -1 where it is not one."""
+        query = np.asarray(wanted, dtype=np.int64)
+        at = np.minimum(np.searchsorted(self.sorted, query), max(len(self.sorted) - 1, 0))
+        if not len(self.sorted):
+            return np.full(len(query), -1, dtype=np.int64)
+        return np.where(self.sorted[at] == query, self.order[at], -1)
 
 
 def _generated(items: list[str], where: str) -> list[int]:
