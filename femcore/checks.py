@@ -4,12 +4,22 @@ from __future__ import annotations
 
 import os
 import warnings
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
-__all__ = ["as_flag", "as_number", "as_path", "as_reals", "check_positive", "warn_implausible"]
+__all__ = [
+    "UNIT_SYSTEMS",
+    "Plausible",
+    "as_flag",
+    "as_number",
+    "as_path",
+    "as_reals",
+    "check_positive",
+    "warn_implausible",
+]
 
 
 def as_number(value: Any, name: str, expected: str) -> float:
@@ -136,25 +146,64 @@ def check_positive(value: Any, name: str, unit: str) -> float:
     return number
 
 
-def warn_implausible(value: float, name: str, unit: str, low: float, high: float, hint: str):
-    """Warn (UserWarning) when ``value`` lies outside [low, high], the range of the materials
-    this project models in its units (mm, N, t, s): almost always a value given in other units.
+@dataclass(frozen=True)
+class Plausible:
+    """A value of a material and where it is plausible in each system of units.
 
-    Parameters
+    Attributes
     ----------
+    name : str
+        For the message, e.g. "Fabric areal_density".
     value : float
-        The checked value, in ``unit``.
-    name, unit : str
-        For the message, e.g. "Fabric areal_density", "t/mm^2".
-    low, high : float
-        The plausible range in ``unit``.
+        The value as given.
+    mm : tuple (unit, low, high)
+        Its unit and plausible range in mm, N, t, s, e.g. ("t/mm^2", 1e-12, 1e-6).
+    si : tuple (unit, low, high)
+        Its unit and plausible range in m, N, kg, s, e.g. ("kg/m^2", 1e-3, 1e3).
     hint : str
         The usual mistake and its conversion, e.g. "1 kg/m^2 = 1e-9 t/mm^2".
     """
-    if not low <= value <= high:
-        warnings.warn(
-            f"{name} = {value:g} {unit} is outside the usual range {low:g}..{high:g} {unit} "
-            f"(units mm, N, t, s): {hint}",
-            UserWarning,
-            stacklevel=3,
-        )
+
+    name: str
+    value: float
+    mm: tuple[str, float, float]
+    si: tuple[str, float, float]
+    hint: str
+
+
+UNIT_SYSTEMS = {"mm": "mm, N, t, s", "si": "m, N, kg, s"}
+
+
+def _outside(quantity: Plausible, system: str) -> str | None:
+    unit, low, high = getattr(quantity, system)
+    if low <= quantity.value <= high:
+        return None
+    return (
+        f"{quantity.name} = {quantity.value:g} {unit} is outside the usual range "
+        f"{low:g}..{high:g} {unit}"
+    )
+
+
+def warn_implausible(*quantities: Plausible) -> None:
+    """Warn (UserWarning) when a material's values do not all fit one consistent system of
+    units, mm, N, t, s or m, N, kg, s: almost always a value given in the other one (a
+    density in kg/m^3 beside lengths in mm). Values that all fit one system are quiet: any
+    consistent set of units is a valid model (a whole material in the other system than its
+    mesh is the mesh's check, femcore.mesh_checks.check_thickness_scale).
+
+    Parameters
+    ----------
+    *quantities : Plausible
+        The material's values, each with its plausible range in both systems.
+    """
+    if any(all(_outside(q, system) is None for q in quantities) for system in UNIT_SYSTEMS):
+        return
+    said = [f"{text} (units mm, N, t, s): {q.hint}"
+            for q in quantities if (text := _outside(q, "mm")) is not None]  # fmt: skip
+    other = [text for q in quantities if (text := _outside(q, "si")) is not None]
+    warnings.warn(
+        "; ".join(said) + f"; nor do they fit m, N, kg, s together ({'; '.join(other)}): "
+        "the values mix two systems of units",
+        UserWarning,
+        stacklevel=3,
+    )

@@ -28,6 +28,7 @@ _NEUTRAL_KEYWORDS = frozenset(
         "END PART",
         "ASSEMBLY",
         "END ASSEMBLY",
+        "INSTANCE",  # one, unmoved: checked by femcore.mesh_io (DeckScan.instances)
         "END INSTANCE",
         "END STEP",  # its *STEP is listed
     }
@@ -53,6 +54,10 @@ class DeckScan:
         The *NSET and *ELSET made of other sets, in file order: ("NSET" or "ELSET", the
         set's name, the names of the sets it joins). meshio 5.3 reads only the first name
         of each line of such a set, and leaves an *NSET of sets empty.
+    instances : list[tuple[int, str, list[list[float]]]]
+        The *INSTANCE lines of an assembly: (line number, NAME=, the numbers of each data
+        line before its *END INSTANCE: a translation, then a rotation). meshio reads a part's
+        mesh once, at the part's own coordinates, whatever its instances say.
     """
 
     ignored: dict[str, list[int]] = field(default_factory=dict)
@@ -60,6 +65,7 @@ class DeckScan:
     node_blocks: int = 0
     includes: int = 0
     set_unions: list[tuple[str, str, list[str]]] = field(default_factory=list)
+    instances: list[tuple[int, str, list[list[float]]]] = field(default_factory=list)
 
     def ignored_summary(self) -> str:
         """ "*BOUNDARY (line 12), *STEP (lines 20, 31)", the ignored keywords as the deck
@@ -85,18 +91,24 @@ def scan_deck(path: str | Path) -> DeckScan:
     """
     scan = DeckScan()
     current_set: tuple[str, str, list[str]] | None = None  # the set whose lines follow
+    instance: list[list[float]] | None = None  # the data lines of the open *INSTANCE
     with open(path, encoding="utf-8", errors="replace") as deck:
         for number, line in enumerate(deck, start=1):
             if line.startswith("**"):
                 continue
             if not line.startswith("*"):
+                if instance is not None and line.strip():
+                    instance.append(_numbers(line))
+                if current_set is None:  # a node's or an element's line: nothing to note
+                    continue
                 names = [item.strip() for item in line.split(",") if item.strip()]
-                if current_set is not None and names and not names[0][0].isdigit():
+                if names and not names[0][0].isdigit():
                     current_set[2].extend(names)
                 continue
             if current_set is not None and current_set[2]:
                 scan.set_unions.append(current_set)
             current_set = None
+            instance = None
             head, _, parameters = line.partition(",")
             keyword = " ".join(head[1:].split()).upper()
             if keyword in ("NSET", "ELSET"):
@@ -105,6 +117,9 @@ def scan_deck(path: str | Path) -> DeckScan:
                     current_set = (keyword, name, [])
             elif keyword == "ELEMENT":
                 scan.element_sets.append(_parameter(parameters, "ELSET"))
+            elif keyword == "INSTANCE":
+                instance = []
+                scan.instances.append((number, _parameter(parameters, "NAME") or "?", instance))
             elif keyword == "NODE":
                 scan.node_blocks += 1
             elif keyword == "INCLUDE":
@@ -123,3 +138,15 @@ def _parameter(parameters: str, name: str) -> str | None:
         if equals and key.strip().upper() == name:
             return value.strip()
     return None
+
+
+def _numbers(line: str) -> list[float]:
+    """The numbers of a data line (a word that is not one reads as NaN: not a zero move)."""
+    values = []
+    for item in line.split(","):
+        if item.strip():
+            try:
+                values.append(float(item))
+            except ValueError:
+                values.append(float("nan"))
+    return values

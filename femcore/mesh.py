@@ -660,12 +660,13 @@ class Mesh(ReadOnlyState):
         not), and ignores "vertex" cells; quadrilaterals (gmsh quads, Abaqus S4/S4R) are
         split in two triangles each as :meth:`from_quads` does (fibre-aligned when their
         sides follow the fibres), their sets and cell data following them. Named sets come
-        back from Abaqus NSET/ELSET (.inp; ELSET= of *ELEMENT lines, sets made of other
-        sets), from the "nset:/elset:/lset:" mask arrays that :meth:`write` stores in other
-        formats, and from named gmsh physical groups: every group is the node set of its
-        cells' nodes (a physical curve "clamp" holds the nodes of its lines), and a group of
-        dimension d is also a set of the cells of the kinds of dimension d (1 -> line set,
-        2 -> element set). An element that MSH 2.2 repeats for each physical group of its
+        back from Abaqus NSET/ELSET (.inp, read by Abaqus's rules: NSET= of *NODE and ELSET=
+        of *ELEMENT lines, sets made of other sets, GENERATE lines), from the
+        "nset:/elset:/lset:" mask arrays that :meth:`write` stores in other formats, and
+        from named gmsh physical groups: every group is the node set of its cells' nodes (a
+        physical curve "clamp" holds the nodes of its lines), and a group of dimension d is
+        also a set of the cells of the kinds of dimension d (1 -> line set, 2 -> element
+        set). An element that MSH 2.2 repeats for each physical group of its
         entity is kept once. Keywords of an Abaqus deck the reader does not turn into the
         mesh (*BOUNDARY, *MATERIAL, *SHELL SECTION, *STEP, ...) are listed in one
         UserWarning.
@@ -686,10 +687,14 @@ class Mesh(ReadOnlyState):
         ------
         ValueError
             A missing file or a directory, unknown format, unreadable file, other cell
-            types, no cell of a known kind, an Abaqus deck with several *NODE blocks or a
-            set of sets naming an unknown set, a mesh too large for the memory available
-            (femcore.memory), or any check of the constructor (e.g. the same triangle
-            twice).
+            types, no cell of a known kind, an Abaqus deck with several *NODE blocks, an
+            assembly of several *INSTANCE entries or a moved one, a set naming a set, a
+            node or an element the deck does not define, a GENERATE line that is not
+            ``first, last[, increment]``, an element repeating a node (each naming the file
+            and the line: femcore.inp_sets), two gmsh physical groups of one name or one
+            whose name a set cannot take (naming the file and the groups), a mesh too
+            large for the memory available (femcore.memory), or any check of the
+            constructor (e.g. the same triangle twice; naming the file).
         """
         from femcore.mesh_io import read_mesh
 

@@ -6,6 +6,7 @@ and the known losses, and delegate to :func:`read_mesh` and :func:`write_mesh` h
 
 from __future__ import annotations
 
+import tempfile
 import warnings
 from collections.abc import Iterator, Sequence
 from pathlib import Path
@@ -17,6 +18,7 @@ from numpy.typing import ArrayLike
 
 from femcore.checks import as_path
 from femcore.inp_deck import DeckScan, scan_deck
+from femcore.inp_sets import resolve_deck_sets, scan_deck_sets
 from femcore.memory import check_mesh_memory
 from femcore.mesh import CELL_KINDS, Mesh
 from femcore.mesh_checks import sorted_unique
@@ -43,8 +45,24 @@ def read_mesh(path: str | Path, file_format: str | None = None) -> Mesh:
         raise ValueError(f"mesh file {path} does not exist")
     fmt = _resolve_format(path, file_format, writing=False)
     deck = _checked_deck(path) if fmt == "abaqus" else DeckScan()
+    if fmt == "gmsh":
+        _check_physical_names(path)
+    # The sets of a deck without *INCLUDE are read here by Abaqus's rules (femcore.inp_sets),
+    # meshio reading its nodes and elements only.
+    own_sets = None
+    if fmt == "abaqus" and not deck.includes:
+        try:
+            own_sets = scan_deck_sets(path)
+        except UnicodeDecodeError:
+            pass  # not a text file: meshio's reading below says so
     try:
-        raw = meshio.read(path, file_format=fmt)
+        if own_sets is None:
+            raw = meshio.read(path, file_format=fmt)
+        else:
+            with tempfile.TemporaryDirectory() as folder:
+                bare = Path(folder) / path.name
+                bare.write_text(own_sets.mesh_text, encoding="utf-8")
+                raw = meshio.read(bare, file_format=fmt)
     except SystemExit as err:  # meshio's VTU reader ends the process on a corrupt file
         raise ValueError(f"cannot read {path} as {fmt!r}: not a valid {fmt} file") from err
     except UnicodeDecodeError as err:
@@ -66,7 +84,11 @@ def read_mesh(path: str | Path, file_format: str | None = None) -> Mesh:
         raise ValueError(
             f"cannot read {path} as {fmt!r}: {type(err).__name__}: {err}{hint}"
         ) from err
-    if fmt == "abaqus":
+    if own_sets is not None and len(raw.cells) == len(own_sets.element_numbers):
+        raw.point_sets, raw.cell_sets = resolve_deck_sets(
+            own_sets, [block.data.shape[1] for block in raw.cells], path
+        )
+    elif fmt == "abaqus":
         raw = _abaqus_element_sets(raw, deck)
     # Quads become two triangles each; the rest one cell each (vertex cells are dropped).
     n_cells = sum(len(block.data) * (2 if block.type == "quad" else 1) for block in raw.cells)
@@ -92,6 +114,27 @@ def _checked_deck(path: Path) -> DeckScan:
             f"{path} has {deck.node_blocks} *NODE blocks; the .inp reader (meshio) keeps only "
             "the last one: gather the nodes in one *NODE block"
         )
+    if len(deck.instances) > 1:
+        listed = ", ".join(f"{name!r} (line {line})" for line, name, _ in deck.instances)
+        raise ValueError(
+            f"{path} has {len(deck.instances)} *INSTANCE entries, {listed}; the .inp reader "
+            "reads each part's mesh once, at the part's own coordinates, and the sets of "
+            "every instance on that one copy: write the assembly as one flat mesh (one *NODE "
+            "block, no *PART), or keep one instance"
+        )
+    for line, name, moves in deck.instances:
+        # A translation line (3 numbers), then a rotation line (7, the angle last).
+        moved = any(
+            len(move) > 0 and not all(v == 0.0 for v in (move[-1:] if i else move))
+            for i, move in enumerate(moves)
+        )
+        if moved:
+            raise ValueError(
+                f"{path}: *INSTANCE {name!r} (line {line}) is moved or rotated, by "
+                f"{'; '.join(', '.join(f'{v:g}' for v in m) for m in moves)}; the .inp reader "
+                "reads the part's mesh at its own coordinates: write the mesh where it stands "
+                "(no *PART), or the instance unmoved"
+            )
     return deck
 
 
@@ -443,12 +486,49 @@ def _mesh_from_meshio(raw: meshio.Mesh, source: str) -> Mesh:
             stacklevel=4,
         )
 
-    return Mesh(
-        raw.points,
-        node_sets=sets["node"],
-        cells=blocks.connectivity,
-        cell_sets={kind: sets[kind] for kind in CELL_KINDS},
-    )
+    try:
+        return Mesh(
+            raw.points,
+            node_sets=sets["node"],
+            cells=blocks.connectivity,
+            cell_sets={kind: sets[kind] for kind in CELL_KINDS},
+        )
+    except ValueError as error:  # a degenerate cell, a set name .inp cannot hold: the file
+        raise ValueError(f"{source}: {error}") from None
+
+
+def _check_physical_names(path: Path) -> None:
+    """ValueError naming the file and the groups for two gmsh physical groups of one name
+    (meshio keeps one of them, and its sets alone: a curve "plate" beside a surface "plate"
+    lost its line set) or a name a set cannot take (, = " or a line break: .inp and .msh
+    files could not hold it)."""
+    rows: list[str] = []
+    with open(path, "rb") as handle:  # the section is text in binary files too, near the top
+        inside = False
+        for raw_line in handle:
+            line = raw_line.decode("utf-8", errors="replace").strip()
+            if line == "$PhysicalNames":
+                inside = True
+            elif line == "$EndPhysicalNames" or (not inside and line in ("$Nodes", "$Entities")):
+                break
+            elif inside:
+                rows.append(line)
+    seen: dict[str, tuple[str, str]] = {}
+    for row in rows[1:]:  # after the count
+        dim, tag, quoted = (row.split(maxsplit=2) + ["", "", ""])[:3]
+        name = quoted.strip().strip('"')
+        if name in seen:
+            raise ValueError(
+                f"{path}: the physical groups {name!r} of dimension {seen[name][0]} (tag "
+                f"{seen[name][1]}) and of dimension {dim} (tag {tag}) share a name, and the "
+                "reader would keep the sets of one of them only: give them distinct names"
+            )
+        seen[name] = (dim, tag)
+        if set(name) & set(',="'):
+            raise ValueError(
+                f"{path}: the physical group {name!r} (dimension {dim}, tag {tag}) has a name "
+                'a set cannot take (no , = or ", which .inp and .msh files use): rename it'
+            )
 
 
 def _physical_groups(raw: meshio.Mesh, kinds: list[str]) -> dict[str, tuple[int, list]]:

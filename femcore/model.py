@@ -32,6 +32,7 @@ from femcore.loads import (
 )
 from femcore.memory import small_pages
 from femcore.mesh import CELL_KINDS, Mesh, NodePredicate
+from femcore.mesh_checks import check_thickness_scale
 
 __all__ = ["BlockEntry", "CompiledModel", "Model", "NodeSelection"]
 
@@ -96,6 +97,14 @@ class Model:
         -------
         int
             The block index (``model.blocks[i]``, ``State.history[i]``).
+
+        Raises
+        ------
+        ValueError
+            Not an element type, an unknown or empty cell set, cells another block covers, or
+            a shell thicker than the largest extent of its cells (a mesh and a material in two
+            systems of units; thicker than ten times their median edge: a UserWarning,
+            femcore.mesh_checks.check_thickness_scale).
         """
         if isinstance(element, Interaction):
             raise ValueError(
@@ -151,6 +160,10 @@ class Model:
                     f"({type(entry.element).__name__}) already covers{again}: one element per "
                     "cell; give each block its own cells (a cell set or ids)"
                 )
+        half = getattr(element, "half_thickness", None)  # a shell's section (a cable has none)
+        if isinstance(half, float) and half > 0.0:
+            cells_nodes = self.mesh.cells(cell_type)[ids]
+            check_thickness_scale(self.mesh.points, cells_nodes, 2.0 * half, type(element).__name__)
         self.blocks.append(BlockEntry(element, ids))
         self._compiled = None
         return len(self.blocks) - 1

@@ -113,7 +113,14 @@ from fibreshell.case_layup import layup_for, read_layup
 from fibreshell.case_materials import _material, _user_element
 from fibreshell.case_model import LocatedModel
 from fibreshell.case_reading import CaseError, _keywords, _number, _table, _vector, _Where
-from fibreshell.case_sets import BOUND_KEYS, BoundsError, order_path, select_by_bounds
+from fibreshell.case_sets import (
+    BOUND_KEYS,
+    BoundsError,
+    order_path,
+    select_by_bounds,
+    unused_in,
+    used_nodes,
+)
 from fibreshell.outputs import DEFAULT_CHECKPOINT, checkpoint_collision
 from solvers import CentralDifference, DynamicRelaxation, Static
 
@@ -258,6 +265,21 @@ class Case:
         # Compiled here, where each entry's table is known (the solver reuses it): an error
         # of binding or applying one names the file, the table and the key.
         model = located.compile()
+        # A history set on nodes of cells that no part covers (a line of the mesh without a
+        # cable part) would read 0 in every row: refused as one on nodes of no cell is.
+        carried = np.any(model.compile().dofs.active, axis=1, keepdims=False).reshape(-1)
+        inner = top.child("output").child("history")
+        for key, names in self.history.items():
+            for name in names:
+                ids = self.mesh.nodes(name)
+                bare = ids[~carried[ids]]
+                if bare.size:
+                    raise inner.error(
+                        key,
+                        f"node set {name!r} holds {bare.size} node(s) that no part's cells use "
+                        f"(node {int(bare[0])}, at {self.mesh.points[bare[0]].tolist()}): they "
+                        "carry no DOF; give a set of the nodes of the parts",
+                    )
         return model
 
     def make_solver(self, **outputs):
@@ -494,7 +516,8 @@ def _select(where: _Where, mesh: Mesh, value: Any, key: str, named_only=False) -
     if named_only or not isinstance(value, dict):
         raise where.error(key, f"expected a node-set name or a bounds table, got {value!r}")
     try:
-        return select_by_bounds(mesh.points, _table(where, value, key, BOUND_KEYS))
+        bounds = _table(where, value, key, BOUND_KEYS)
+        return select_by_bounds(mesh.points, bounds, used_nodes(mesh))
     except BoundsError as error:
         # a malformed bound at its own key ([sets.tip.x_min]), an empty set at the set's
         raise (where.child(key).error(error.key, str(error)) if error.key
@@ -726,7 +749,15 @@ def _output(top: _Where, value: Any, case: Case) -> None:
         if not isinstance(names, list) or not all(isinstance(n, str) for n in names):
             raise inner.error(key, f"expected a list of node-set names, got {names!r}")
         for name in names:
-            _select(inner, case.mesh, name, key, named_only=True)
+            ids = _select(inner, case.mesh, name, key, named_only=True)
+            stray = unused_in(case.mesh, ids)
+            if stray.size:  # its displacement and reaction would read 0 in every row
+                raise inner.error(
+                    key,
+                    f"node set {name!r} holds {stray.size} node(s) that no cell uses (node "
+                    f"{int(stray[0])}, at {case.mesh.points[stray[0]].tolist()}): they carry "
+                    "no DOF; give a set of the nodes of the cells",
+                )
         case.history[key] = list(names)
     paths = table.get("paths", {})
     _table(where, paths, "paths", tuple(paths))

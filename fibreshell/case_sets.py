@@ -3,12 +3,13 @@
 
 A bound is a number in mesh units, or a string ``"P%"`` with P from 0 to 100: the
 coordinate ``low + P / 100 (high - low)`` of the mesh's extent [low, high] along that axis
-(its bounding box when the case is read). A relative bound follows the mesh when its size
-changes, so that a sweep over ``mesh.rectangle.lx`` keeps ``tip = { x_min = "100%" }`` at
-the tip; an absolute one stays where it was written. A node is in the set when every bound
-given holds within ``tolerance`` (mesh units, >= 0; default 1e-6 of the mesh's largest
-extent). Bounds that select no node are an error naming each bound, its coordinate and the
-mesh's extent.
+(the bounding box of the nodes its cells use when the case is read: a node no cell uses, a
+stray point of the mesh file, neither widens the extent nor joins a set). A relative bound
+follows the mesh when its size changes, so that a sweep over ``mesh.rectangle.lx`` keeps
+``tip = { x_min = "100%" }`` at the tip; an absolute one stays where it was written. A node
+is in the set when every bound given holds within ``tolerance`` (mesh units, >= 0; default
+1e-6 of the mesh's largest extent). Bounds that select no node are an error naming each
+bound, its coordinate and the mesh's extent.
 
 A path (``[output] paths``) is a set that is a line: its nodes ordered along the axis of its
 longest extent, one node at each position along it (``order_path``).
@@ -22,7 +23,7 @@ from typing import Any
 
 import numpy as np
 
-__all__ = ["BOUND_KEYS", "BoundsError", "order_path", "select_by_bounds"]
+__all__ = ["BOUND_KEYS", "BoundsError", "order_path", "select_by_bounds", "unused_in", "used_nodes"]
 
 BOUND_KEYS = ("x_min", "x_max", "y_min", "y_max", "z_min", "z_max", "tolerance")
 _PERCENT = re.compile(r"\s*([-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?)\s*%\s*")
@@ -66,7 +67,25 @@ def _extent(low: np.ndarray, high: np.ndarray) -> str:
     return ", ".join(f"{a} {lo:g} to {hi:g}" for a, lo, hi in zip("xyz", low, high))
 
 
-def select_by_bounds(points: np.ndarray, bounds: Mapping[str, Any]) -> np.ndarray:
+def used_nodes(mesh: Any) -> np.ndarray:
+    """The (n,) bool mask of the nodes of ``mesh`` (a femcore Mesh) that some cell uses; every
+    node when the mesh has no cell."""
+    used = np.zeros(mesh.n_nodes, dtype=bool)
+    for kind in mesh.cell_kinds:
+        used[mesh.cells(kind).ravel()] = True
+    return used if used.any() else np.ones(mesh.n_nodes, dtype=bool)
+
+
+def unused_in(mesh: Any, ids: np.ndarray) -> np.ndarray:
+    """The nodes of ``ids`` that no cell of ``mesh`` uses (they carry no DOF: their
+    displacement and reaction are 0 whatever the load)."""
+    ids = np.asarray(ids, dtype=np.int64)
+    return ids[~used_nodes(mesh)[ids]]
+
+
+def select_by_bounds(
+    points: np.ndarray, bounds: Mapping[str, Any], used: np.ndarray | None = None
+) -> np.ndarray:
     """The nodes within ``bounds``.
 
     Parameters
@@ -77,6 +96,9 @@ def select_by_bounds(points: np.ndarray, bounds: Mapping[str, Any]) -> np.ndarra
         Some of ``x_min``, ``x_max``, ``y_min``, ``y_max``, ``z_min``, ``z_max`` (a number
         in mesh units, or ``"P%"`` of the mesh's extent along that axis, 0 <= P <= 100) and
         ``tolerance`` (mesh units, >= 0).
+    used : (n,) bool array, optional
+        The nodes the cells use (``used_nodes``): the extent that shares are of is theirs,
+        and only they are selected. None: every node.
 
     Returns
     -------
@@ -104,7 +126,12 @@ def select_by_bounds(points: np.ndarray, bounds: Mapping[str, Any]) -> np.ndarra
             f"{', '.join(BOUND_KEYS[:-1])} (a node-set name selects a named set)",
             None,
         )
-    low, high = points.min(axis=0), points.max(axis=0)
+    if used is None or not np.any(used):
+        used = np.ones(len(points), dtype=bool)
+    used = np.asarray(used, dtype=bool)
+    # A node no cell uses (a stray point of the mesh file) carries no DOF: it must neither
+    # stretch the extent that "100%" is of nor join a set, where it would read 0 forever.
+    low, high = points[used].min(axis=0), points[used].max(axis=0)
     size = float((high - low).max()) or 1.0
     tolerance = bounds.get("tolerance", 1e-6 * size)
     if (
@@ -116,7 +143,7 @@ def select_by_bounds(points: np.ndarray, bounds: Mapping[str, Any]) -> np.ndarra
         raise BoundsError(
             f"expected a finite distance >= 0 (mesh units), got {tolerance!r}", "tolerance"
         )
-    mask = np.ones(len(points), dtype=bool)
+    mask = used.copy()
     given = []  # (key, text, mask of that bound alone)
     for axis, name in enumerate("xyz"):
         for side in ("min", "max"):
@@ -129,6 +156,7 @@ def select_by_bounds(points: np.ndarray, bounds: Mapping[str, Any]) -> np.ndarra
                 if side == "min"
                 else points[:, axis] <= at + tolerance
             )
+            alone &= used
             mask &= alone
             written = bounds[key]
             text = f"{key} = {written!r} ({name} = {at:g})" if isinstance(written, str) else (

@@ -9,7 +9,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import ArrayLike
 
-from femcore.checks import as_number, as_reals, check_positive, warn_implausible
+from femcore.checks import Plausible, as_number, as_reals, check_positive, warn_implausible
 
 if TYPE_CHECKING:  # a type only: materials.fabric needs nothing from here
     from materials.fabric import Fabric
@@ -245,13 +245,19 @@ class ElasticShell:
         g23 = check_positive(g23, "ElasticShell G23", "MPa")
         kappa = check_positive(kappa, "ElasticShell shear_factor", "-")
         set_(self, "plane_stress", q)
-        # Up to 1e9: a metal or a composite in Pa (1e10 to 1e12) is caught, while the classic
-        # shell benchmarks in their own consistent units (Scordelis-Lo: 4.32e8 psf) are not.
-        warn_implausible(float(np.max(np.diag(q))), "ElasticShell modulus", "MPa", 1e-3, 1e9,
-                         "a modulus in Pa is 1e6 of it in MPa")  # fmt: skip
-        # Up to 1e-6 t/mm^3 (1e6 kg/m^3): any density in kg/m^3 (1 to 2e4) is caught.
-        warn_implausible(self.density, "ElasticShell density", "t/mm^3", 1e-14, 1e-6,
-                         "a density in kg/m^3 is 1e-12 of it in t/mm^3")  # fmt: skip
+        # Plausible in either consistent system. In MPa up to 1e9: a metal or a composite in
+        # Pa (1e10 to 1e12) is caught, while the classic shell benchmarks in their own
+        # consistent units (Scordelis-Lo: 4.32e8 psf) are not; in Pa from 1e5 (a soft rubber)
+        # up. Up to 1e-6 t/mm^3 (1e6 kg/m^3): any density in kg/m^3 (1 to 2e4) is caught
+        # beside lengths in mm. Up to 0.5 m thick in m.
+        warn_implausible(
+            Plausible("ElasticShell modulus", float(np.max(np.diag(q))), ("MPa", 1e-3, 1e9),
+                      ("Pa", 1e5, 1e15), "a modulus in Pa is 1e6 of it in MPa"),
+            Plausible("ElasticShell density", self.density, ("t/mm^3", 1e-14, 1e-6),
+                      ("kg/m^3", 1e-2, 1e6), "a density in kg/m^3 is 1e-12 of it in t/mm^3"),
+            Plausible("ElasticShell thickness", self.thickness, ("mm", 0.0, np.inf),
+                      ("m", 1e-6, 0.5), "a thickness in mm is 1e3 of it in m"),
+        )  # fmt: skip
         set_(self, "transverse", kappa * np.array([g13, g23]))
         set_(self, "shear_factor", kappa)
         set_(self, "warp", warp)

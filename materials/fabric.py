@@ -13,7 +13,7 @@ from typing import Any
 
 import numpy as np
 
-from femcore.checks import check_positive, warn_implausible
+from femcore.checks import Plausible, check_positive, warn_implausible
 from materials.laws import BendingLaw, Law, ShearLaw, TensionLaw
 
 __all__ = ["Fabric"]
@@ -91,11 +91,15 @@ class Fabric:
         set_ = object.__setattr__
         set_(self, "thickness", check_positive(thickness, "Fabric thickness", "mm"))
         set_(self, "areal_density", check_positive(areal_density, "Fabric areal_density", "t/mm^2"))
-        # 1 g/m^2 (lighter than any veil) to 1000 kg/m^2 (a 100 mm steel plate)
-        warn_implausible(self.areal_density, "Fabric areal_density", "t/mm^2", 1e-12, 1e-6,
-                         "a mass per area in kg/m^2 is 1e-9 of it in t/mm^2")  # fmt: skip
-        warn_implausible(self.thickness, "Fabric thickness", "mm", 1e-3, 1e3,
-                         "a thickness in m is 1e3 of it in mm")  # fmt: skip
+        # Plausible in either consistent system: 1 g/m^2 (lighter than any veil) to 1000
+        # kg/m^2 (a 100 mm steel plate); 1 micrometre to 1 m thick in mm, 10 micrometres to
+        # 50 mm in m (a fabric 0.3 m thick is a thickness in mm beside a density in kg/m^2).
+        warn_implausible(
+            Plausible("Fabric areal_density", self.areal_density, ("t/mm^2", 1e-12, 1e-6),
+                      ("kg/m^2", 1e-3, 1e3), "a mass per area in kg/m^2 is 1e-9 of it in t/mm^2"),
+            Plausible("Fabric thickness", self.thickness, ("mm", 1e-3, 1e3), ("m", 1e-5, 0.05),
+                      "a thickness in m is 1e3 of it in mm"),
+        )  # fmt: skip
         set_(self, "tension", _law(tension, TensionLaw, "Fabric tension", "N/mm"))
         set_(self, "shear", _law(shear, ShearLaw, "Fabric shear", "N/mm"))
         set_(self, "bending", _law(bending, BendingLaw, "Fabric bending", "N mm"))

@@ -242,3 +242,78 @@ def test_every_shipped_case_keeps_its_node_sets_when_its_mesh_is_scaled(path):
         scaled["mesh"][kind][key] *= 1.5
     before = selections(case_from_data(data, path))
     assert selections(case_from_data(scaled, path)) == before  # the same nodes by id
+
+
+# ---------------------------------------------------------------------- nodes no cell uses
+# A 20 x 20 mm plate of 2 x 2 quads, and node 999 at (50, 50) that no element uses (a point
+# left over in the deck): it carries no DOF, so its displacement reads 0 whatever the load.
+STRAY_NODE_DECK = """*Node, nset=allnodes
+ 101, 0., 0., 0.
+ 102, 10., 0., 0.
+ 103, 20., 0., 0.
+ 201, 0., 10., 0.
+ 202, 10., 10., 0.
+ 203, 20., 10., 0.
+ 301, 0., 20., 0.
+ 302, 10., 20., 0.
+ 303, 20., 20., 0.
+ 999, 50., 50., 0.
+*Element, type=S4R, elset=plate
+ 1, 101, 102, 202, 201
+ 2, 102, 103, 203, 202
+ 3, 201, 202, 302, 301
+ 4, 202, 203, 303, 302
+*Nset, nset=edge_and_stray
+ 103, 203, 303, 999
+"""
+
+
+def plate_with_a_stray_node(tmp_path: Path, sets: dict, **tables) -> dict:
+    (tmp_path / "plate.inp").write_text(STRAY_NODE_DECK)
+    return {**strip(sets, **tables), "mesh": {"file": "plate.inp"}}
+
+
+def test_a_share_is_of_the_extent_of_the_nodes_the_cells_use_not_of_a_stray_node(tmp_path):
+    """ "100%" was x = 50, node 999 alone (its history 0.0 in every row); "40%" was x >= 20,
+    the real edge and node 999 (which pulled the edge's mean deflection down by a quarter)."""
+    data = plate_with_a_stray_node(
+        tmp_path, {"tip": {"x_min": "100%"}, "outer": {"x_min": "40%"}, "far": {"x_min": 15.0}}
+    )
+    case = case_from_data(data, tmp_path / "case.toml")
+    assert points_of(case, "tip")[:, 0].tolist() == [20.0, 20.0, 20.0]
+    assert sorted(set(points_of(case, "outer")[:, 0])) == [10.0, 20.0]  # x >= 8
+    assert points_of(case, "far")[:, 0].tolist() == [20.0, 20.0, 20.0]  # absolute: 999 too
+
+
+def test_bounds_that_hold_only_a_stray_node_select_nothing_and_say_the_cells_extent(tmp_path):
+    data = plate_with_a_stray_node(tmp_path, {"corner": {"x_min": 40.0}})
+    with pytest.raises(CaseError, match=r"\[sets\.corner\]: no node .* spans x 0 to 20, y 0 to 20"):
+        case_from_data(data, tmp_path / "case.toml")
+
+
+@pytest.mark.parametrize("key", ["displacements", "reactions"])
+def test_a_history_set_with_a_node_no_cell_uses_is_refused_naming_the_set(tmp_path, key):
+    data = plate_with_a_stray_node(tmp_path, {}, output={"history": {key: ["edge_and_stray"]}})
+    with pytest.raises(CaseError) as caught:
+        case_from_data(data, tmp_path / "case.toml")
+    message = str(caught.value)
+    assert f"[output.history.{key}]" in message and "'edge_and_stray'" in message
+    assert "[50.0, 50.0, 0.0]" in message and "no cell uses" in message
+
+
+def test_a_history_set_on_nodes_of_cells_no_part_covers_is_refused_as_the_model_is_built(
+    tmp_path,
+):
+    """A bar (T3D2) of the deck out to node 7 with no cable part: node 7 carries no DOF."""
+    text = (
+        STRAY_NODE_DECK.replace(" 999, 50., 50., 0.\n", " 999, 50., 50., 0.\n 7, 30., 0., 0.\n")
+        + "*Element, type=T3D2, elset=bar\n 9, 103, 7\n*Nset, nset=bar_end\n 7\n"
+    )
+    (tmp_path / "plate.inp").write_text(text)
+    data = {**strip({}, output={"history": {"displacements": ["bar_end"]}}),
+            "mesh": {"file": "plate.inp"}}  # fmt: skip
+    data["part"][0]["cells"] = "plate"
+    case = case_from_data(data, tmp_path / "case.toml")
+    refused = r"\[output\.history\.displacements\]: node set 'bar_end' holds 1 node\(s\) that"
+    with pytest.raises(CaseError, match=refused + " no part's cells use"):
+        case.model()

@@ -1,0 +1,256 @@
+"""The node and element sets of an Abaqus deck, read by Abaqus's keyword rules.
+
+meshio 5.3 reads an .inp file's sets with rules of its own: ``*NSET, GENERATE`` only with
+the increment written and on one data line, an *ELSET listed for the *ELEMENT blocks read
+before it only, an element label the deck does not define dropped, a node label it does not
+define a KeyError, ``*NODE, NSET=`` ignored. Here the sets are read as Abaqus reads them (a
+data line of labels or set names; GENERATE lines of ``first, last[, increment]``, increment
+1 by default, as many as given; NSET= and ELSET= of *NODE and *ELEMENT) and a label or a
+set name the deck does not define is refused naming the file, the line and the set. meshio
+then reads the deck's nodes and elements from a copy without its *NSET and *ELSET blocks.
+"""
+
+from __future__ import annotations
+
+from bisect import bisect_right
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+__all__ = ["DeckSets", "resolve_deck_sets", "scan_deck_sets"]
+
+
+@dataclass
+class DeckSets:
+    """The sets of a deck as written, and the deck without them for meshio.
+
+    Attributes
+    ----------
+    mesh_text : str
+        The deck without its *NSET and *ELSET blocks, for meshio to read nodes and elements.
+    node_labels : dict[int, int]
+        Node label -> index (the order of the *NODE block's lines, meshio's).
+    element_numbers : list[list[int]]
+        Per *ELEMENT block, the integers of its data lines (label, nodes, label, ...).
+    element_lines : list[list[tuple[int, int]]]
+        Per *ELEMENT block, (index of a data line's first integer, its line number).
+    sets : list[tuple[str, str, bool, int, list[tuple[int, list[str]]]]]
+        (NSET or ELSET, name, GENERATE, keyword line, [(line number, items)]) in file order.
+    block_sets : list[tuple[str, str, int]]
+        NSET= of *NODE and ELSET= of *ELEMENT: (NSET or ELSET, name, *ELEMENT block).
+    """
+
+    mesh_text: str = ""
+    node_labels: dict[int, int] = field(default_factory=dict)
+    element_numbers: list[list[int]] = field(default_factory=list)
+    element_lines: list[list[tuple[int, int]]] = field(default_factory=list)
+    sets: list[tuple[str, str, bool, int, list[tuple[int, list[str]]]]] = field(
+        default_factory=list
+    )
+    block_sets: list[tuple[str, str, int]] = field(default_factory=list)
+
+
+def _parameters(line: str) -> tuple[str, dict[str, str]]:
+    head, *items = line.split(",")
+    keyword = " ".join(head[1:].split()).upper()
+    found = {}
+    for item in items:
+        key, _, value = item.partition("=")
+        if key.strip():
+            found[key.strip().upper()] = value.strip()
+    return keyword, found
+
+
+def scan_deck_sets(path: Path) -> DeckSets:
+    """The sets of the deck at ``path`` as written (one *NODE block, no *INCLUDE: the caller
+    checks), and its text without them; UnicodeDecodeError for a file that is not UTF-8
+    text (meshio's reading names it)."""
+    deck = DeckSets()
+    keep: list[str] = []
+    mode = ""
+    text = path.read_text(encoding="utf-8")  # UnicodeDecodeError: not a text file
+    for number, line in enumerate(text.splitlines(), start=1):
+        if line.startswith("**"):
+            continue
+        if line.startswith("*"):
+            mode, parameters = _parameters(line)
+            if mode in ("NSET", "ELSET"):
+                name = parameters.get(mode, "")
+                deck.sets.append((mode, name, "GENERATE" in parameters, number, []))
+                continue  # not for meshio
+            if mode == "NODE" and parameters.get("NSET"):
+                deck.block_sets.append(("NSET", parameters["NSET"], -1))
+            if mode == "ELEMENT":
+                deck.element_numbers.append([])
+                deck.element_lines.append([])
+                if parameters.get("ELSET"):
+                    block = len(deck.element_numbers) - 1
+                    deck.block_sets.append(("ELSET", parameters["ELSET"], block))
+            keep.append(line)
+            continue
+        if mode in ("NSET", "ELSET"):
+            items = [item.strip() for item in line.split(",") if item.strip()]
+            if items:
+                deck.sets[-1][4].append((number, items))
+            continue
+        keep.append(line)
+        if mode == "NODE":
+            label = line.split(",", 1)[0].strip()
+            if label.lstrip("+-").isdigit():
+                deck.node_labels[int(label)] = len(deck.node_labels)
+        elif mode == "ELEMENT":
+            numbers = deck.element_numbers[-1]
+            before = len(numbers)
+            try:
+                numbers.extend(map(int, line.replace(",", " ").split()))
+            except ValueError:
+                del numbers[before:]  # meshio says what is wrong with the line
+            if len(numbers) > before:
+                deck.element_lines[-1].append((before, number))
+    deck.mesh_text = "\n".join(keep) + "\n"
+    return deck
+
+
+def resolve_deck_sets(
+    deck: DeckSets, nodes_per_cell: list[int], path: Path
+) -> tuple[dict[str, np.ndarray], dict[str, list[np.ndarray]]]:
+    """The sets of ``deck`` in meshio's numbering: (name -> node indices, name -> one array
+    of local element indices per *ELEMENT block), given the nodes per element of each block
+    as meshio read it.
+
+    Raises
+    ------
+    ValueError
+        Naming the file, the line and the set (or the element): a GENERATE line that is not
+        ``first, last[, increment]`` with first <= last and a positive increment, a label of
+        a node or an element the deck does not define, a set name no set before it defines,
+        an element that repeats a node (a collapsed quadrilateral).
+    """
+    per_block_labels: list[np.ndarray] = []
+    blocks: list[np.ndarray] = []
+    locals_: list[np.ndarray] = []
+    sizes: list[int] = []
+    for block, (numbers, per_cell) in enumerate(
+        zip(deck.element_numbers, nodes_per_cell, strict=True)
+    ):
+        rows = np.array(numbers, dtype=np.int64).reshape(-1, per_cell + 1)
+        sizes.append(len(rows))
+        ordered = np.sort(rows[:, 1:], axis=1)
+        repeats = np.flatnonzero((ordered[:, 1:] == ordered[:, :-1]).any(axis=1))
+        if repeats.size:
+            row = rows[repeats[0]]
+            starts = deck.element_lines[block]
+            line = starts[bisect_right(starts, (int(repeats[0]) * (per_cell + 1), 1 << 62)) - 1][1]
+            raise ValueError(
+                f"{path}: line {line}: element {row[0]} repeats a node in "
+                f"{tuple(row[1:].tolist())} (a collapsed element): write it as the "
+                "element it is (an S3 triangle for a quadrilateral with one side collapsed)"
+            )
+        per_block_labels.append(rows[:, 0])
+        blocks.append(np.full(len(rows), block, dtype=np.int64))
+        locals_.append(np.arange(len(rows), dtype=np.int64))
+    elements = _Labels(np.concatenate(per_block_labels or [np.zeros(0, np.int64)]))
+    element_block = np.concatenate(blocks or [np.zeros(0, np.int64)])
+    element_local = np.concatenate(locals_ or [np.zeros(0, np.int64)])
+    nodes = _Labels(np.fromiter(deck.node_labels, dtype=np.int64, count=len(deck.node_labels)))
+    node_index = np.fromiter(deck.node_labels.values(), np.int64, len(deck.node_labels))
+    point_sets: dict[str, np.ndarray] = {}
+    cell_sets: dict[str, list[np.ndarray]] = {}
+    for kind, name, block in deck.block_sets:
+        if kind == "NSET":
+            point_sets[name] = np.arange(len(deck.node_labels), dtype=np.int64)
+        else:
+            cell_sets[name] = [
+                np.arange(size if index == block else 0, dtype=np.int64)
+                for index, size in enumerate(sizes)
+            ]
+    for kind, name, generate, at, data in deck.sets:
+        what = f"{path}: line {at}: *{kind} {name!r}"
+        if not name:
+            raise ValueError(f"{what}: no {kind}= name")
+        labels: list[int] = []
+        members: list[str] = []
+        for number, items in data:
+            if generate:
+                labels.extend(_generated(items, f"{path}: line {number}: *{kind} {name!r}"))
+                continue
+            for item in items:
+                if item.lstrip("+-").isdigit():
+                    labels.append(int(item))
+                else:
+                    members.append(item)
+        store: dict = point_sets if kind == "NSET" else cell_sets
+        unknown = [member for member in members if member not in store]
+        if unknown:
+            raise ValueError(
+                f"{what} joins the sets {unknown}, which the deck does not define before it "
+                f"(known: {sorted(store)})"
+            )
+        if kind == "NSET":
+            found = nodes.find(labels)
+            missing = np.asarray(labels, dtype=np.int64)[found < 0].tolist()
+            if missing:
+                raise ValueError(
+                    f"{what} names node {missing[0]}"
+                    f"{f' (and {len(missing) - 1} more)' if len(missing) > 1 else ''}, which "
+                    "the deck does not define"
+                )
+            ids = [node_index[found]]
+            ids += [point_sets[member] for member in members]
+            point_sets[name] = np.unique(np.concatenate(ids))
+        else:
+            found = elements.find(labels)
+            missing = np.asarray(labels, dtype=np.int64)[found < 0].tolist()
+            if missing:
+                raise ValueError(
+                    f"{what} names element {missing[0]}"
+                    f"{f' (and {len(missing) - 1} more)' if len(missing) > 1 else ''}, which "
+                    "the deck does not define"
+                )
+            cell_sets[name] = [
+                np.unique(
+                    np.concatenate(
+                        [element_local[found][element_block[found] == block]]
+                        + [cell_sets[member][block] for member in members]
+                    )
+                )
+                for block in range(len(sizes))
+            ]
+    return point_sets, cell_sets
+
+
+class _Labels:
+    """Labels (Abaqus's node or element numbers) found by binary search."""
+
+    def __init__(self, labels: np.ndarray) -> None:
+        self.order = np.argsort(labels, kind="stable")
+        self.sorted = labels[self.order]
+
+    def find(self, wanted: list[int]) -> np.ndarray:
+        """The index of each wanted label in the labels given, -1 where it is not one."""
+        query = np.asarray(wanted, dtype=np.int64)
+        at = np.minimum(np.searchsorted(self.sorted, query), max(len(self.sorted) - 1, 0))
+        if not len(self.sorted):
+            return np.full(len(query), -1, dtype=np.int64)
+        return np.where(self.sorted[at] == query, self.order[at], -1)
+
+
+def _generated(items: list[str], where: str) -> list[int]:
+    """The labels of a GENERATE data line ``first, last[, increment]`` (increment 1 when
+    omitted, as Abaqus reads it)."""
+    try:
+        values = [int(item) for item in items]
+    except ValueError:
+        values = []
+    if (
+        len(values) not in (2, 3)
+        or (len(values) == 3 and values[2] <= 0)
+        or (values[0] > values[1])
+    ):
+        raise ValueError(
+            f"{where}, GENERATE: expected 'first, last[, increment]' with first <= last and "
+            f"a positive increment (1 when omitted), got {', '.join(items)!r}"
+        )
+    step = values[2] if len(values) == 3 else 1
+    return list(range(values[0], values[1] + 1, step))

@@ -1,0 +1,151 @@
+"""Abaqus decks (.inp) read as Abaqus reads them, or refused naming the file, the line and the
+set: assemblies the reader cannot place, sets generated or listed as Abaqus's keyword rules
+allow, nodes and elements a set names that the deck does not define."""
+
+import warnings
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from femcore.mesh import Mesh
+
+PART = """*Heading
+*Part, name=plate
+*Node
+ 1, 0., 0., 0.
+ 2, 10., 0., 0.
+ 3, 10., 10., 0.
+ 4, 0., 10., 0.
+*Element, type=S4R, elset=all
+ 1, 1, 2, 3, 4
+*Nset, nset=left
+ 1, 4
+*End Part
+*Assembly, name=Assembly
+"""
+
+
+def deck(tmp_path: Path, text: str, name: str = "deck.inp") -> Path:
+    path = tmp_path / name
+    path.write_text(text)
+    return path
+
+
+# ---------------------------------------------------------------------- assemblies
+def test_two_instances_of_a_part_are_refused_naming_both_and_their_lines(tmp_path):
+    """The second copy, 5 mm above, was dropped and its set landed on the first's nodes."""
+    path = deck(tmp_path, PART + """*Instance, name=plate-1, part=plate
+*End Instance
+*Instance, name=plate-2, part=plate
+ 0., 0., 5.
+*End Instance
+*Nset, nset=clamp, instance=plate-2
+ 1, 4
+*End Assembly
+""")  # fmt: skip
+    with pytest.raises(ValueError, match=r"deck.inp has 2 \*INSTANCE entries, 'plate-1' \(line "
+                                         r"14\), 'plate-2' \(line 16\)"):  # fmt: skip
+        Mesh.read(path)
+
+
+@pytest.mark.parametrize(
+    "moves, said",
+    [([" 0., 0., 5."], "0, 0, 5"), ([" 0., 0., 0.", " 0., 0., 0., 0., 0., 1., 90."], "90")],
+)
+def test_an_instance_moved_or_rotated_is_refused_naming_its_line(tmp_path, moves, said):
+    text = PART + "*Instance, name=plate-1, part=plate\n" + "\n".join(moves)
+    path = deck(tmp_path, text + "\n*End Instance\n*End Assembly\n")
+    with pytest.raises(
+        ValueError, match=rf"\*INSTANCE 'plate-1' \(line 14\) is moved or rotated, by .*{said}"
+    ):
+        Mesh.read(path)
+
+
+def test_one_instance_where_its_part_stands_is_read_quietly(tmp_path):
+    text = PART + "*Instance, name=plate-1, part=plate\n 0., 0., 0.\n*End Instance\n"
+    path = deck(tmp_path, text + "*Nset, nset=clamp, instance=plate-1\n 1, 4\n*End Assembly\n")
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        mesh = Mesh.read(path)
+    assert np.allclose(mesh.points[mesh.nodes("clamp")], [[0, 0, 0], [0, 10, 0]])
+
+
+# ---------------------------------------------------------------------- sets
+NODES = """*Node
+ 1, 0., 0., 0.
+ 2, 10., 0., 0.
+ 3, 10., 10., 0.
+ 4, 0., 10., 0.
+ 5, 20., 0., 0.
+ 6, 20., 10., 0.
+"""
+QUAD = "*Element, type=S4R\n 1, 1, 2, 3, 4\n"
+TRIANGLES = "*Element, type=S3\n 2, 2, 5, 6\n 3, 2, 6, 3\n"
+
+
+@pytest.mark.parametrize(
+    "sets, name, expected",
+    [
+        # an *ELSET between the two *ELEMENT blocks: refused ("a set of sets in an *INCLUDE
+        # file"), though it lists its element; quad 1 is triangles 0 and 1
+        (QUAD + "*Elset, elset=first\n 1\n" + TRIANGLES, "first", [0, 1]),
+        # GENERATE over two data lines: "not a valid abaqus file"
+        (QUAD + TRIANGLES + "*Elset, elset=two, generate\n 1, 1, 1\n 2, 3, 1\n", "two",
+         [0, 1, 2, 3]),
+        # and an element set by labels and set names on one line
+        (QUAD + TRIANGLES + "*Elset, elset=tri\n 2, 3\n*Elset, elset=both\n 1, tri\n", "both",
+         [0, 1, 2, 3]),
+    ],
+)  # fmt: skip
+def test_element_sets_are_read_as_abaqus_reads_them(tmp_path, sets, name, expected):
+    mesh = Mesh.read(deck(tmp_path, NODES + sets))
+    assert mesh.element_sets[name].tolist() == expected
+
+
+@pytest.mark.parametrize(
+    "text, name, labels",
+    [
+        ("*Nset, nset=row, generate\n 1, 2\n", "row", [1, 2]),  # the increment omitted: 1
+        ("*Nset, nset=row, generate\n 1, 5, 2\n 2, 2\n", "row", [1, 2, 3, 5]),  # two lines
+        ("*Nset, nset=a\n 1\n*Nset, nset=b\n a, 6\n", "b", [1, 6]),  # a name and a label
+    ],
+)
+def test_node_sets_are_read_as_abaqus_reads_them(tmp_path, text, name, labels):
+    mesh = Mesh.read(deck(tmp_path, NODES + QUAD + TRIANGLES + text))
+    assert (mesh.nodes(name) + 1).tolist() == labels  # labels 1..6 are nodes 0..5
+
+
+def test_the_nset_of_a_node_block_holds_its_nodes(tmp_path):
+    text = NODES.replace("*Node", "*Node, nset=allnodes") + QUAD + TRIANGLES
+    assert Mesh.read(deck(tmp_path, text)).nodes("allnodes").tolist() == list(range(6))
+
+
+@pytest.mark.parametrize(
+    "text, message",
+    [
+        # was "KeyError: np.int32(77)"
+        ("*Nset, nset=bad\n 1, 77\n", r"deck.inp: line 11: \*NSET 'bad' names node 77, which "),
+        # was dropped silently
+        ("*Elset, elset=second\n 2, 3, 99\n", r"line 11: \*ELSET 'second' names element 99, "),
+        # was "not a valid abaqus file"
+        ("*Nset, nset=row, generate\n 1, 2, 3, 4\n", r"line 12: \*NSET 'row', GENERATE: expected "
+                                                     r"'first, last\[, increment\]'"),
+        ("*Nset, nset=row, generate\n 4, 2\n", r"line 12: \*NSET 'row', GENERATE: .* got '4, 2'"),
+        ("*Elset, elset=u\n unknown\n", r"line 11: \*ELSET 'u' joins the sets \['unknown'\]"),
+    ],
+)  # fmt: skip
+def test_a_set_naming_what_the_deck_does_not_define_is_refused_naming_the_line(
+    tmp_path, text, message
+):
+    with pytest.raises(ValueError, match=message):
+        Mesh.read(deck(tmp_path, NODES + "*Element, type=S3\n 2, 2, 5, 6\n 3, 2, 6, 3\n" + text))
+
+
+def test_a_collapsed_quadrilateral_is_refused_naming_the_file_the_line_and_the_element(tmp_path):
+    """Was "triangle 3 is degenerate: it repeats a node in (2, 2, 4)", neither the file nor
+    the element 12 named."""
+    text = NODES + "*Element, type=S4R, elset=plate\n 11, 1, 2, 3, 4\n 12, 2, 5, 3, 3\n"
+    with pytest.raises(ValueError, match=r"deck.inp: line 10: element 12 repeats a node in "
+                                         r"\(2, 5, 3, 3\)"):  # fmt: skip
+        Mesh.read(deck(tmp_path, text))
