@@ -30,7 +30,7 @@ from solvers.arc_step import ArcStep, iterations_spent
 from solvers.common import check_integer, check_non_negative
 from solvers.line_search import ARMIJO, model_extent, step_cap
 from solvers.newton import IncrementFailed, at_round_off_floor, mechanism, newton
-from solvers.round_off import FLOOR_FACTOR, ROUND_OFF_GATE, round_off_ratio
+from solvers.round_off import RoundOffFloor
 from solvers.stability import buckling_mode
 
 if TYPE_CHECKING:
@@ -350,8 +350,7 @@ def arc_corrector(run: StaticRun, pattern, prediction: Motion):
     # ROUND_OFF_GATE, as Newton on the load path does: a fibrous strip's increments otherwise
     # spent 2-3 of their 4-5 iterations at ratios of 2e-7 that no step lowers, and Crisfield's
     # rule read them as a hard increment (docs/theory.md §6.6, "Step length").
-    floor: float | None = None
-    probe = not model.interactions and run.dashpots is None
+    rounding = RoundOffFloor(solver.tol, not model.interactions and run.dashpots is None, run.info)
     for iteration in range(1, solver.max_iterations + 1):
         frames = dofs.frames(state.directors)
         equilibrium = run.equilibrium(load_factor)
@@ -359,13 +358,7 @@ def arc_corrector(run: StaticRun, pattern, prediction: Motion):
         history.append(ratio)
         if not np.isfinite(ratio):
             raise IncrementFailed("non-finite residual")
-        tol = solver.tol
-        if probe and tol < ratio <= ROUND_OFF_GATE:
-            if floor is None:
-                floor = FLOOR_FACTOR * round_off_ratio(equilibrium, state, frames, r, forces)
-                run.info["round_off_probes"] += 1
-            if floor <= ROUND_OFF_GATE:  # more is not rounding: a force a translation moves
-                tol = max(tol, floor)
+        tol = rounding.tolerance(ratio, equilibrium, state, frames, r, forces)
         if ratio <= tol:
             run.info["round_off_converged"] += int(ratio > solver.tol)
             if factor is None:

@@ -116,7 +116,7 @@ from solvers.line_search import Watchdog
 from solvers.linear import Factorisation
 from solvers.newton_chords import chord_corrections
 from solvers.newton_curvature import curved_step
-from solvers.round_off import FLOOR_FACTOR, ROUND_OFF_GATE, round_off_ratio
+from solvers.round_off import RoundOffFloor
 from solvers.saddles import judged
 from solvers.stabilisation import Dashpots
 from solvers.stability import downhill, lowest_modes
@@ -354,8 +354,7 @@ def _iterate(
     updates = 0
     # The residual's round-off floor (solvers.round_off): measured once an iterate is within
     # ROUND_OFF_GATE, on models whose forces a rigid translation leaves as they are.
-    floor: float | None = None
-    probe = not model.interactions and run.dashpots is None
+    rounding = RoundOffFloor(solver.tol, not model.interactions and run.dashpots is None, run.info)
     alone = imposes_alone(model)
 
     def resume(pushed: State):
@@ -383,13 +382,7 @@ def _iterate(
             raise IncrementFailed(
                 f"the residual ratio stayed above {STALLED_RATIO:g} for {window} iterations"
             )
-        tol = solver.tol
-        if probe and tol < ratio <= ROUND_OFF_GATE:
-            if floor is None:
-                floor = FLOOR_FACTOR * round_off_ratio(equilibrium, state, frames, r, forces)
-                run.info["round_off_probes"] += 1
-            if floor <= ROUND_OFF_GATE:  # more is not rounding: a force a translation moves
-                tol = max(tol, floor)
+        tol = rounding.tolerance(ratio, equilibrium, state, frames, r, forces)
         settled_here = ratio <= tol and np.abs(left).max(initial=0.0) <= 1e-9 * size
         run.info["round_off_converged"] += int(settled_here and ratio > solver.tol)
         if settled_here:

@@ -34,7 +34,9 @@ from femcore.state import State
 if TYPE_CHECKING:
     from solvers.newton import Residual
 
-__all__ = ["FLOOR_FACTOR", "ROUND_OFF_GATE", "ROUND_OFF_SHIFT", "round_off_ratio"]
+__all__ = [
+    "FLOOR_FACTOR", "ROUND_OFF_GATE", "ROUND_OFF_SHIFT", "RoundOffFloor", "round_off_ratio",
+]  # fmt: skip
 
 # The rigid translation of the probe, in element sizes: not a power of two, so that every
 # coordinate rounds differently.
@@ -72,3 +74,27 @@ def round_off_ratio(equilibrium: Residual, state: State, frames: Frames, r: np.n
     r_moved, _, _ = equilibrium.residual(moved, frames)
     change = r_moved - r
     return equilibrium.test.ratios(change[:, :3], change[:, 3:], *forces).largest
+
+
+class RoundOffFloor:
+    """The tolerance of one increment's iterations with its rounding floor: the solver's
+    ``tol``, raised to FLOOR_FACTOR times the rounding of the residual (``round_off_ratio``,
+    probed once, the first time the ratio lies between ``tol`` and ROUND_OFF_GATE) when that
+    floor is at most ROUND_OFF_GATE (more is not rounding: a force a translation moves).
+    ``probe`` False (interactions, stabilisation) keeps ``tol``; ``info["round_off_probes"]``
+    counts the probes."""
+
+    def __init__(self, tol: float, probe: bool, info: dict):
+        self.tol, self.probe, self.info = tol, probe, info
+        self.floor: float | None = None
+
+    def tolerance(self, ratio: float, equilibrium: Residual, state: State, frames: Frames,
+                  r: np.ndarray, forces) -> float:  # fmt: skip
+        """The tolerance the iterate of residual ratio ``ratio`` is judged by (the arguments
+        as ``round_off_ratio``'s)."""
+        if not (self.probe and self.tol < ratio <= ROUND_OFF_GATE):
+            return self.tol
+        if self.floor is None:
+            self.floor = FLOOR_FACTOR * round_off_ratio(equilibrium, state, frames, r, forces)
+            self.info["round_off_probes"] += 1
+        return max(self.tol, self.floor) if self.floor <= ROUND_OFF_GATE else self.tol
