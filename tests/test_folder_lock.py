@@ -209,19 +209,22 @@ def test_a_lock_of_a_pid_now_used_by_a_later_process_is_taken_over(tmp_path):
             assert json.loads(lock.read_text())["task"] == "the run of 'b.toml'"
 
 
-@pytest.mark.parametrize(
-    "left, said",
-    [
-        ({"pid": 1, "host": "another-machine", "task": "the run of 'far.toml'"},
-         "host 'another-machine'"),
-        ({"pid": os.getpid(), "host": socket.gethostname(), "task": "the run of 'here.toml'"},
-         f"pid {os.getpid()}"),
-        ("not json", "a lock file that cannot be read"),
-    ],
-)  # fmt: skip
-def test_a_lock_of_another_host_a_living_process_or_unreadable_is_never_taken_over(
-    tmp_path, left, said
-):
+def _left_lock(kind: str) -> tuple[object, str]:
+    """(a lock file's content, what the refusal must name) for ``kind``: another host's, a
+    living process's of this host (this one), or one that cannot be read. Built inside the
+    test: a pid in a parameter's id differs between the suite's worker processes."""
+    if kind == "another host":
+        return ({"pid": 1, "host": "another-machine", "task": "the run of 'far.toml'"},
+                "host 'another-machine'")  # fmt: skip
+    if kind == "living process":
+        here = {"pid": os.getpid(), "host": socket.gethostname(), "task": "the run of 'here.toml'"}
+        return here, f"pid {os.getpid()}"
+    return "not json", "a lock file that cannot be read"
+
+
+@pytest.mark.parametrize("kind", ["another host", "living process", "unreadable"])
+def test_a_lock_of_another_host_a_living_process_or_unreadable_is_never_taken_over(tmp_path, kind):
+    left, said = _left_lock(kind)
     out = tmp_path / "out"
     first_runs_files(out)
     (out / LOCK_FILE).write_text(left if isinstance(left, str) else json.dumps(left))
