@@ -32,7 +32,6 @@ from solvers.blas_threads import one_blas_thread
 from solvers.common import (
     DivergenceError,
     ProgressLine,
-    SettingError,
     check_fraction,
     check_integer,
     check_non_negative,
@@ -45,6 +44,7 @@ from solvers.common import (
 )
 from solvers.dynamics import EnergyAccount, FrameSchedule, rotational_kinetic
 from solvers.energy_parts import largest_part_change
+from solvers.explicit_refusals import refuse_unrunnable, refuse_up_front
 from solvers.explicit_step_size import (  # noqa: F401 (STEP_GROWTH_HELD re-exported)
     STEP_GROWTH_HELD,
     StableStepRule,
@@ -302,7 +302,7 @@ class CentralDifference(StableStepRule):
         """
         compiled = compiled_model(model, "CentralDifference")
         checkpoint_interval = check_non_negative(checkpoint_interval, "checkpoint_interval", "s")
-        self._check_model(compiled)
+        refuse_unrunnable(self, compiled)
         saved_at = checkpoint_path(checkpoint)
         check_outputs(compiled.mesh, self.output, self.history, saved_at)
         started = time.perf_counter()
@@ -547,7 +547,7 @@ class CentralDifference(StableStepRule):
             )
         duration = self.duration
         added_mass = float(mass.sum() - compiled.mass0.sum())
-        self._check_up_front(compiled, added_mass, dt_nominal)
+        refuse_up_front(self, compiled, added_mass, dt_nominal)
         run = _Run(
             state=state,
             scale=scale,
@@ -569,61 +569,6 @@ class CentralDifference(StableStepRule):
         """Keep ``frame_summary(frame)`` with the frame's time (when there is one)."""
         if self.frame_summary is not None:
             run.summaries.append((frame.time, self.frame_summary(frame)))
-
-    def _check_up_front(self, compiled: CompiledModel, added_mass: float, dt: float) -> None:
-        """Refuse, before the first step, a run that mass scaling would turn into another
-        model (more than ``max_added_mass`` times its elements' mass added) or whose steps
-        would exceed ``max_steps`` at the starting step (a step far too small would otherwise
-        hang)."""
-        if compiled.nominal_mass_nodes.size:
-            raise ValueError(
-                f"node {int(compiled.nominal_mass_nodes[0])} carries a force-driven tool's "
-                "free translation without a stated mass: in explicit dynamics the tool moves "
-                "by m a = F - (contact forces); give the tool its mass (t), e.g. "
-                "RigidPlane(..., free=('z',), force=..., mass=...), or [[contact]] mass = ..."
-            )
-        total = compiled.element_mass
-        if total > 0.0 and added_mass > self.max_added_mass * total:
-            raise SettingError(
-                "mass_scaling_dt",
-                f"mass_scaling_dt = {self.mass_scaling_dt:g} s would add {added_mass / total:.3g} "
-                f"times the elements' mass ({added_mass:.3g} on {total:.3g} t, the tools' "
-                "masses aside), more than "
-                f"max_added_mass = {self.max_added_mass:g}: the run would describe a much "
-                "heavier body. Choose a target step nearer the stable step, or raise "
-                "max_added_mass",
-            )
-        steps = self.duration / dt
-        if steps > self.max_steps:
-            raise SettingError(
-                "max_steps",
-                f"duration / dt = {self.duration:g} s / {dt:.3g} s = {steps:.4g} steps, more "
-                f"than max_steps = {self.max_steps}: raise dt (or mass_scaling_dt), shorten "
-                "the duration, or raise max_steps",
-            )
-
-    def _check_model(self, compiled: CompiledModel) -> None:
-        """ValueError for what this model cannot be run with whatever the step: a history
-        node it does not have, or a displacement prescribed already at t = 0 (amplitude
-        "step", or a(0) != 0): in dynamics the node would jump there in one step, an infinite
-        velocity (the energy records then do not close and the stable step collapses)."""
-        if self.history_nodes.size and self.history_nodes.max() >= compiled.n_nodes:
-            raise ValueError(
-                f"history_nodes has node {int(self.history_nodes.max())}, and the model's nodes "
-                f"are 0 to {compiled.n_nodes - 1}"
-            )
-        if compiled.has_prescribed:
-            at_start = compiled.prescribed_displacement(0.0)
-            jumping = np.flatnonzero(np.any(at_start != 0.0, axis=1))
-            if jumping.size:
-                node = int(jumping[0])
-                raise ValueError(
-                    f"{jumping.size} node(s) have a displacement prescribed at t = 0 (node {node}: "
-                    f"{tuple(float(v) for v in at_start[node])} mm): in explicit dynamics a "
-                    'prescribed displacement must start from zero (amplitude "smooth" or '
-                    '"linear", or a(0) = 0); "step" jumps in one time step, an infinite '
-                    'velocity. A suddenly applied load is a force with amplitude "step"'
-                )
 
     def _outputs(self, compiled: CompiledModel, run: _Run):
         """The frame stream and the history writer of this run (None when not asked for),
