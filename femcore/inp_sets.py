@@ -157,12 +157,15 @@ def resolve_deck_sets(
     node_index = np.fromiter(deck.node_labels.values(), np.int64, len(deck.node_labels))
     point_sets: dict[str, np.ndarray] = {}
     cell_sets: dict[str, list[np.ndarray]] = {}
+    # A name defined more than once (ELSET= on several *ELEMENT blocks, *NSET or *ELSET
+    # repeated) is one set holding every definition's members, as Abaqus and CalculiX read it.
     for kind, name, block in deck.block_sets:
         if kind == "NSET":
             point_sets[name] = np.arange(len(deck.node_labels), dtype=np.int64)
         else:
+            before = cell_sets.get(name, [np.zeros(0, dtype=np.int64)] * len(sizes))
             cell_sets[name] = [
-                np.arange(size if index == block else 0, dtype=np.int64)
+                np.arange(size, dtype=np.int64) if index == block else before[index]
                 for index, size in enumerate(sizes)
             ]
     for kind, name, generate, at, data in deck.sets:
@@ -197,7 +200,7 @@ def resolve_deck_sets(
                     "the deck does not define"
                 )
             ids = [node_index[found]]
-            ids += [point_sets[member] for member in members]
+            ids += [point_sets[member] for member in [*members, name] if member in point_sets]
             point_sets[name] = np.unique(np.concatenate(ids))
         else:
             found = elements.find(labels)
@@ -212,7 +215,11 @@ def resolve_deck_sets(
                 np.unique(
                     np.concatenate(
                         [element_local[found][element_block[found] == block]]
-                        + [cell_sets[member][block] for member in members]
+                        + [
+                            cell_sets[member][block]
+                            for member in [*members, name]
+                            if member in cell_sets
+                        ]
                     )
                 )
                 for block in range(len(sizes))

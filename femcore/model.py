@@ -103,7 +103,7 @@ class Model:
         ValueError
             Not an element type, an unknown or empty cell set, cells another block covers, or
             a shell thicker than the largest extent of its cells (a mesh and a material in two
-            systems of units; thicker than ten times their median edge: a UserWarning,
+            systems of units; thicker than twenty times their median edge: a UserWarning,
             femcore.mesh_checks.check_thickness_scale).
         """
         if isinstance(element, Interaction):

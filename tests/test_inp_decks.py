@@ -149,3 +149,43 @@ def test_a_collapsed_quadrilateral_is_refused_naming_the_file_the_line_and_the_e
     with pytest.raises(ValueError, match=r"deck.inp: line 10: element 12 repeats a node in "
                                          r"\(2, 5, 3, 3\)"):  # fmt: skip
         Mesh.read(deck(tmp_path, text))
+
+
+# ------------------------------------------------------------ one name, several definitions
+MIXED = """*Heading
+*Node
+ 1, 0., 0., 0.
+ 2, 10., 0., 0.
+ 3, 10., 10., 0.
+ 4, 0., 10., 0.
+ 5, 20., 0., 0.
+ 6, 20., 10., 0.
+*Element, type=S3, elset=PLATE
+ 1, 1, 2, 3
+ 2, 1, 3, 4
+*Element, type=S4R, elset=PLATE
+ 3, 2, 5, 6, 3
+*Nset, nset=FIX
+ 1
+*Nset, nset=FIX
+ 4
+"""
+
+
+def test_a_set_named_on_several_element_blocks_holds_every_blocks_elements(tmp_path):
+    """Triangles and quadrilaterals in one ELSET, as hand-written decks give a plate: the set is
+    every definition's elements (CalculiX's manual, "Sets": a name defined again adds to the
+    set). It held the last block's alone (its two triangles of the quadrilateral), so a part
+    on cells "PLATE" covered half the shell without a word."""
+    mesh = Mesh.read(deck(tmp_path, MIXED))
+    assert len(mesh.triangles) == 4  # the quadrilateral split in two
+    assert sorted(mesh.element_sets["PLATE"].tolist()) == [0, 1, 2, 3]
+    assert sorted(mesh.node_sets["FIX"].tolist()) == [0, 3]  # *NSET given twice: both nodes
+
+
+def test_an_elset_keyword_adds_to_the_set_an_element_block_named(tmp_path):
+    text = MIXED.replace("*Element, type=S4R, elset=PLATE", "*Element, type=S4R") + (
+        "*Elset, elset=PLATE\n 3\n"
+    )
+    mesh = Mesh.read(deck(tmp_path, text))
+    assert sorted(mesh.element_sets["PLATE"].tolist()) == [0, 1, 2, 3]
