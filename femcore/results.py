@@ -197,11 +197,23 @@ class Result:
     def thickness(self) -> np.ndarray | None:
         """(n,) final thickness along the director (length units), or None.
 
-        This is the nodal field named "thickness" of the final frame, present when an
-        element block provides it (the fibrous shell does); None otherwise. The same as
-        ``field("thickness")`` except that it does not raise when the field is absent.
+        The nodal fields "thickness", "thickness_2", ... of the final frame (one per element
+        block that provides it: both shells do, NaN off the block's nodes) merged, each node's
+        from the first block it belongs to; NaN at nodes of no such block; None when no block
+        provides it. With one such block, ``field("thickness")``.
         """
-        return self.frames[-1].fields.get("point", {}).get("thickness")
+        fields = self.frames[-1].fields.get("point", {})
+        parts = [
+            np.asarray(fields[name], dtype=float)
+            for name in sorted(fields, key=lambda name: (len(name), name))
+            if name == "thickness" or re.fullmatch(r"thickness_\d+", name)
+        ]
+        if len(parts) < 2:
+            return parts[0] if parts else None
+        merged = parts[0].copy()
+        for part in parts[1:]:
+            merged = np.where(np.isnan(merged), part, merged)
+        return merged
 
     def director_angle(self, normal: ArrayLike = (0.0, 0.0, 1.0), frame: int = -1) -> np.ndarray:
         """The angle (deg) between each director and a chosen plane, given by its normal:

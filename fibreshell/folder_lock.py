@@ -92,6 +92,21 @@ def holder(folder: Path) -> dict[str, Any] | None:
     return record if isinstance(record, dict) else {"unreadable": text[:200]}
 
 
+#: s after which an empty lock file is a command's that was killed between creating it and
+#: writing its record (a command writes it at once).
+EMPTY_LOCK_AGE_S = 10.0
+
+
+def _left_empty(lock: Path, record: dict[str, Any]) -> bool:
+    """Whether ``lock`` (read as ``record``) is empty and older than EMPTY_LOCK_AGE_S."""
+    if record.get("unreadable", None) is None or str(record["unreadable"]).strip():
+        return False
+    try:
+        return time.time() - lock.stat().st_mtime > EMPTY_LOCK_AGE_S
+    except OSError:
+        return False
+
+
 def _describe(record: dict[str, Any]) -> str:
     if "unreadable" in record:
         return f"a lock file that cannot be read ({record['unreadable']!r})"
@@ -121,9 +136,13 @@ def _take_over(lock: Path, stale: dict[str, Any]) -> bool:
     except FileNotFoundError:  # another command took it over first: try to create it again
         return True
     try:
-        moved = json.loads(aside.read_text())
-    except (OSError, ValueError):
-        moved = None
+        text = aside.read_text()
+    except OSError:
+        text = None
+    try:
+        moved = None if text is None else json.loads(text)
+    except ValueError:  # read as ``holder`` reads it
+        moved = {"unreadable": text[:200]} if text is not None else None
     if moved != stale:  # not the stale lock any more: another's, put back
         os.rename(aside, lock)
         return False
@@ -174,12 +193,21 @@ def folder_lock(folder: Path, task: str, what: str = "the output folder") -> Ite
             other = holder(folder)
             if other is None:  # released meanwhile
                 continue
+            if _left_empty(lock, other):
+                if _take_over(lock, other):
+                    warnings.warn(
+                        f"{str(lock)!r} was left empty more than {EMPTY_LOCK_AGE_S:g} s ago "
+                        f"(a command killed as it took the folder); taken over by {task}",
+                        UserWarning,
+                        stacklevel=3,
+                    )
+                continue
             if "unreadable" in other or _alive(other) is not False:
                 raise _refusal(folder, other, what) from None
             if _take_over(lock, other):
                 warnings.warn(
                     f"{str(lock)!r} was left by {_describe(other)}, which has ended (killed?); "
-                    "taken over: its outputs in the folder are replaced",
+                    f"taken over by {task}",
                     UserWarning,
                     stacklevel=3,
                 )

@@ -436,7 +436,9 @@ def profile(case: Case, result: Result, name: str, thickness: float) -> dict:
     x = result.positions[nodes]
     d = result.directors[nodes]
     angle = np.degrees(np.arctan2(d[:, 2], d @ along))
-    h = result.thickness[nodes] if result.thickness is not None else np.full(len(nodes), thickness)
+    merged = result.thickness
+    h = np.full(len(nodes), thickness) if merged is None else merged[nodes]
+    h = np.where(np.isnan(h), thickness, h)  # a node of no block with the field: the section's
     return {
         "s": s, "x": x[:, 0], "y": x[:, 1], "z": x[:, 2], "horizontal": x @ along,
         "director_angle_deg": angle, "thickness": h, "directors": d,

@@ -14,6 +14,7 @@ import socket
 import subprocess
 import sys
 import textwrap
+import time
 from pathlib import Path
 
 import pytest
@@ -21,7 +22,13 @@ from test_interrupts import CASE, STATIC
 
 from fibreshell.case import CaseError, load_case
 from fibreshell.cli import main
-from fibreshell.folder_lock import LOCK_FILE, FolderInUse, folder_lock, holder
+from fibreshell.folder_lock import (
+    EMPTY_LOCK_AGE_S,
+    LOCK_FILE,
+    FolderInUse,
+    folder_lock,
+    holder,
+)
 from fibreshell.outputs import checkpoint_collision
 from fibreshell.run import run_case
 
@@ -190,7 +197,8 @@ def test_a_lock_left_by_a_killed_process_of_this_host_is_taken_over_with_a_warni
     left = {"pid": dead, "host": socket.gethostname(), "started": "2026-01-01 00:00:00 UTC",
             "task": "the run of 'killed.toml'", "command": "fibreshell run k.toml"}  # fmt: skip
     (out / LOCK_FILE).write_text(json.dumps(left))
-    with pytest.warns(UserWarning, match=f"left by the run of 'killed.toml' \\(pid {dead}"):
+    taken = f"left by the run of 'killed.toml' \\(pid {dead}.* taken over by the run of"
+    with pytest.warns(UserWarning, match=taken):
         run = run_case(load_case(case_file(tmp_path)), out, progress=False)
     assert run.status == "done" and (out / "summary.json").exists()
     assert sorted(p.name for p in out.iterdir() if "lock" in p.name) == []
@@ -207,6 +215,23 @@ def test_a_lock_of_a_pid_now_used_by_a_later_process_is_taken_over(tmp_path):
     with pytest.warns(UserWarning, match="has ended"):
         with folder_lock(out, "the run of 'b.toml'") as lock:
             assert json.loads(lock.read_text())["task"] == "the run of 'b.toml'"
+
+
+def test_a_lock_left_empty_by_a_command_killed_as_it_took_the_folder_is_taken_over(tmp_path):
+    # Killed between creating the lock and writing its record: the empty file refused every
+    # later command until deleted by hand. Older than EMPTY_LOCK_AGE_S it is taken over; a
+    # fresh one (a command writing its record this instant) is still refused.
+    out = tmp_path / "out"
+    first_runs_files(out)
+    lock = out / LOCK_FILE
+    lock.write_text("")
+    with pytest.raises(FolderInUse, match="cannot be read"):
+        run_case(load_case(case_file(tmp_path)), out, progress=False)
+    old = time.time() - 2 * EMPTY_LOCK_AGE_S
+    os.utime(lock, (old, old))
+    with pytest.warns(UserWarning, match="left empty .* taken over by the run of"):
+        run = run_case(load_case(case_file(tmp_path)), out, progress=False)
+    assert run.status == "done" and not lock.exists()
 
 
 def _left_lock(kind: str) -> tuple[object, str]:

@@ -13,6 +13,7 @@ from xml.etree import ElementTree
 
 import meshio
 import numpy as np
+import pytest
 
 from fibreshell.case import load_case
 from fibreshell.run import run_case
@@ -90,3 +91,18 @@ def test_a_fibrous_and_a_mindlin_part_write_nan_where_a_field_is_not_theirs(tmp_
     )  # fmt: skip
     assert summary["director_tilt_deg"]["min"] == tilts.min() > 0.0
     assert summary["director_tilt_deg"]["max"] == tilts.max()
+
+
+def test_a_path_across_both_parts_reads_each_nodes_thickness_from_its_own_part(tmp_path):
+    # The paths' thickness read the first block's field alone: null (NaN) at the Mindlin
+    # part's nodes. Each node's thickness is its own part's: the fibrous h_m where the
+    # fibrous part holds the node (the shared nodes too), the Mindlin section's 6 mm beyond.
+    (tmp_path / "strip.inp").write_text(DECK)
+    (tmp_path / "case.toml").write_text(CASE + '[output]\npaths = { side = { y_max = "0%" } }\n')
+    out = tmp_path / "out"
+    run = run_case(load_case(tmp_path / "case.toml"), out, progress=False)
+    side = json.loads((out / "summary.json").read_text())["paths"]["side"]
+    assert run.status == "done" and None not in side["thickness"]
+    s, thickness = np.asarray(side["s"]), np.asarray(side["thickness"])
+    assert thickness[s > 50.0] == pytest.approx(6.0)  # g986_stack's section, Mindlin
+    assert (thickness[s <= 50.0] >= 6.0).all()  # the fibrous part's h_m, from 6 mm
