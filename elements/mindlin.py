@@ -702,7 +702,7 @@ class MindlinShellBlock(ElementBlock):
 
     # ------------------------------------------------------------------ outputs
     def inverted_cells(self, state: State) -> np.ndarray:
-        """The cells with a corner's director at or past 90 deg from their normal
+        """The cells with every corner's director at or past 90 deg from their normal
         (elements.mindlin_folds.turned_inside_out)."""
         flipped = turned_inside_out(state.positions, self.connectivity, state.directors)
         return self.cell_ids[flipped]

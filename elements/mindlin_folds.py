@@ -59,13 +59,15 @@ def director_tilt(
 def turned_inside_out(
     points: np.ndarray, connectivity: np.ndarray, directors: np.ndarray
 ) -> np.ndarray:
-    """(m,) bool: a corner's director at or past 90 deg from the cell's normal, where the
-    fibre x + zeta V through the thickness leaves the cell on the side its normal does not
-    point to: the shell's volume at that corner is turned inside out (det of the shell's
-    deformation gradient through zero; a fold warns from FOLD_TILT_DEG on, ``warn_folds``).
-    Its membrane strain, the change of the metric, cannot see it: a cell mirrored onto
-    itself keeps its metric. Same arguments as ``director_tilt``."""
-    return np.any(_corner_cosines(points, connectivity, directors) <= 0.0, axis=1)
+    """(m,) bool: every corner's director at or past 90 deg from the cell's normal, where
+    the fibres x + zeta V through the thickness leave the cell on the side its normal does
+    not point to: the cell is mirrored, its volume turned inside out (det of the shell's
+    deformation gradient through zero everywhere in it). Its membrane strain, the change of
+    the metric, cannot see it: a cell mirrored onto itself keeps its metric. One corner past
+    90 deg is a fold sharper than the mesh resolves (a coarse blank's flange wrinkle folded
+    over, whose increments converge and whose run goes on; a fold warns from FOLD_TILT_DEG
+    on, ``warn_folds``): not refused. Same arguments as ``director_tilt``."""
+    return np.all(_corner_cosines(points, connectivity, directors) <= 0.0, axis=1)
 
 
 def _degrees(cosine: np.ndarray) -> np.ndarray:

@@ -106,19 +106,27 @@ def test_a_side_imperfection_follows_the_same_elastica_without_a_push():
     assert result.info["branch_switches"] == []
 
 
-def test_a_cell_whose_director_points_against_its_normal_is_inside_out():
-    # The flat strip's directors are its normals (+z): reversing the director of one node
-    # turns the cells around it inside out (each has a corner at 180 deg), the others not.
+def test_a_cell_whose_directors_all_point_against_its_normal_is_inside_out():
+    # The flat strip's directors are its normals (+z): a cell is inside out when every one of
+    # its corners' directors is reversed; a cell with one or two reversed is a fold (a coarse
+    # blank's flange folded over under Static), not refused.
     model, _ = strip()
     compiled = model.compile()
     state = compiled.initial_state()
     assert compiled.inverted_cells(state).size == 0
-    node = 5
+    triangles = compiled.mesh.triangles
     directors = state.directors.copy()
-    directors[node] *= -1.0
-    around = np.flatnonzero((compiled.mesh.triangles == node).any(axis=1))
+    directors[[5]] *= -1.0
+    folded = compiled.inverted_cells(replace(state, directors=directors))
+    assert folded.size == 0  # one corner reversed in each cell around node 5
+    directors = -state.directors  # every director reversed: every cell mirrored
     flipped = compiled.inverted_cells(replace(state, directors=directors))
-    np.testing.assert_array_equal(flipped, around)
+    np.testing.assert_array_equal(flipped, np.arange(len(triangles)))
+    cell = 7
+    directors = state.directors.copy()
+    directors[triangles[cell]] *= -1.0  # one cell's three corners: that cell is mirrored,
+    flipped = compiled.inverted_cells(replace(state, directors=directors))
+    np.testing.assert_array_equal(flipped, [cell])  # its neighbours (one or two) are folds
 
 
 def test_an_increment_that_converges_inside_out_is_refused_naming_the_cells():
