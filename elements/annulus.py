@@ -112,18 +112,21 @@ class RigidAnnulus(RigidTool):
         )
         return d, n
 
-    def projector_scale(self, x: np.ndarray, load_factor: float = 0.0) -> np.ndarray:
-        """0 on the face (a plane); in front of the bore 1 / the distance to the edge's circle;
-        at the bore's wall -1 / radius (a concave cylinder seen from its axis side); the
-        factor c of ``normal_gradient``."""
-        height, _, length = self._parts(x, load_factor)
-        at_edge, at_wall = self._regions(height, length)
+    def _scale(self, height: np.ndarray, length: np.ndarray, at_edge, at_wall) -> np.ndarray:
+        """``projector_scale`` from the points' parts and regions."""
         distance = np.hypot(length - self.inner, height)
         return np.where(
             at_edge,
             1.0 / np.maximum(distance, 1e-300),
             np.where(at_wall, -1.0 / np.maximum(length, 1e-300), 0.0),
         )
+
+    def projector_scale(self, x: np.ndarray, load_factor: float = 0.0) -> np.ndarray:
+        """0 on the face (a plane); in front of the bore 1 / the distance to the edge's circle;
+        at the bore's wall -1 / radius (a concave cylinder seen from its axis side); the
+        factor c of ``normal_gradient``."""
+        height, _, length = self._parts(x, load_factor)
+        return self._scale(height, length, *self._regions(height, length))
 
     def normal_gradient(
         self, x: np.ndarray, normal: np.ndarray, load_factor: float = 0.0
@@ -142,7 +145,8 @@ class RigidAnnulus(RigidTool):
         along = np.cross(self.normal, outward)  # the circle's direction at p (k, 3)
         turn = np.where(at_edge & (length > 0.0), self.inner / np.where(length > 0, length, 1), 0)
         across = across - turn[:, None, None] * along[:, :, None] * along[:, None, :]
-        return self.projector_scale(x, load_factor)[:, None, None] * across
+        scale = self._scale(height, length, at_edge, at_wall)
+        return scale[:, None, None] * across
 
     def side_hint(self) -> str:
         return f"normal = {tuple(float(v) for v in self.normal)} must point towards the body"

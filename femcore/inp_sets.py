@@ -191,26 +191,12 @@ def resolve_deck_sets(
                 f"(known: {sorted(store)})"
             )
         if kind == "NSET":
-            found = nodes.find(labels)
-            missing = np.asarray(labels, dtype=np.int64)[found < 0].tolist()
-            if missing:
-                raise ValueError(
-                    f"{what} names node {missing[0]}"
-                    f"{f' (and {len(missing) - 1} more)' if len(missing) > 1 else ''}, which "
-                    "the deck does not define"
-                )
+            found = nodes.defined(labels, f"{what} names node")
             ids = [node_index[found]]
             ids += [point_sets[member] for member in [*members, name] if member in point_sets]
             point_sets[name] = np.unique(np.concatenate(ids))
         else:
-            found = elements.find(labels)
-            missing = np.asarray(labels, dtype=np.int64)[found < 0].tolist()
-            if missing:
-                raise ValueError(
-                    f"{what} names element {missing[0]}"
-                    f"{f' (and {len(missing) - 1} more)' if len(missing) > 1 else ''}, which "
-                    "the deck does not define"
-                )
+            found = elements.defined(labels, f"{what} names element")
             cell_sets[name] = [
                 np.unique(
                     np.concatenate(
@@ -241,6 +227,16 @@ class _Labels:
         if not len(self.sorted):
             return np.full(len(query), -1, dtype=np.int64)
         return np.where(self.sorted[at] == query, self.order[at], -1)
+
+    def defined(self, wanted: list[int], names: str) -> np.ndarray:
+        """``find``, or ValueError "<names> <label> (and k more), which the deck does not
+        define" for the first wanted label that is not one."""
+        found = self.find(wanted)
+        missing = np.asarray(wanted, dtype=np.int64)[found < 0].tolist()
+        if missing:
+            more = f" (and {len(missing) - 1} more)" if len(missing) > 1 else ""
+            raise ValueError(f"{names} {missing[0]}{more}, which the deck does not define")
+        return found
 
 
 def _generated(items: list[str], where: str) -> list[int]:
