@@ -11,9 +11,10 @@ reaction_moment). A field nobody declared is written without component names.
 from __future__ import annotations
 
 import re
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
+from typing import Any
 
-__all__ = ["LEVELS", "component_names", "level_names", "name_components"]
+__all__ = ["LEVELS", "component_names", "level_names", "name_components", "parts_fields"]
 
 # Component names by level, bottom to top: the count is the element's, known only when written.
 LEVELS = "levels"
@@ -88,3 +89,13 @@ def component_names(field: str, count: int) -> tuple[str, ...] | None:
         return None
     names = level_names(count) if declared == LEVELS else declared
     return tuple(names) if len(names) == count else None
+
+
+def parts_fields(fields: Mapping[str, Any], name: str) -> list[Any]:
+    """The fields ``name``, ``name_2``, ``name_3``, ... of ``fields`` (a frame's point or cell
+    fields), one per part that writes ``name`` (femcore.compiled names a field of a name
+    written again by a later part so), in the parts' order; [] when no part writes it."""
+    found = [fields[name]] if name in fields else []
+    while found and f"{name}_{len(found) + 1}" in fields:
+        found.append(fields[f"{name}_{len(found) + 1}"])
+    return found

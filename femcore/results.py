@@ -19,7 +19,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from femcore.checks import as_path, as_reals
-from femcore.field_names import component_names
+from femcore.field_names import component_names, parts_fields
 from femcore.mesh import CELL_KINDS, Mesh
 from femcore.writable import OutputError, check_folder, frame_bytes
 
@@ -203,11 +203,7 @@ class Result:
         provides it. With one such block, ``field("thickness")``.
         """
         fields = self.frames[-1].fields.get("point", {})
-        parts = [
-            np.asarray(fields[name], dtype=float)
-            for name in sorted(fields, key=lambda name: (len(name), name))
-            if name == "thickness" or re.fullmatch(r"thickness_\d+", name)
-        ]
+        parts = [np.asarray(part, dtype=float) for part in parts_fields(fields, "thickness")]
         if len(parts) < 2:
             return parts[0] if parts else None
         merged = parts[0].copy()

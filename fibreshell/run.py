@@ -7,7 +7,6 @@ from __future__ import annotations
 import csv
 import json
 import math
-import re
 import time
 import warnings
 from dataclasses import dataclass
@@ -17,6 +16,7 @@ from typing import Any
 import numpy as np
 
 from femcore.dofs import dof_columns
+from femcore.field_names import parts_fields
 from femcore.results import Frame, Result
 from femcore.writable import FIRST_FRAMES, OutputError, check_folder, frame_bytes, series_frames
 from fibreshell.case import Case
@@ -536,11 +536,7 @@ def summarise(
     point = final.fields.get("point", {})
     # every block's tilt: a part on nodes another part shares has its own (director_tilt_deg_2),
     # NaN off its block (femcore.compiled: not defined there)
-    tilts = [
-        np.array(values, dtype=float)
-        for name, values in point.items()
-        if re.fullmatch(r"director_tilt_deg(_\d+)?", name)
-    ]
+    tilts = [np.array(values, dtype=float) for values in parts_fields(point, "director_tilt_deg")]
     if tilts:
         tilt = np.vstack(tilts)
         if held is not None and held.size and held.size < tilt.shape[1]:
