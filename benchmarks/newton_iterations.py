@@ -368,10 +368,10 @@ def branch_switches(compiled, options: dict) -> tuple[list[int], list[int]]:
     active: list[np.ndarray] = []
     original = static.StaticRun.tangent
 
-    def tangent(run, state, frames, compression_free=False):
+    def tangent(run, state, frames, compression_free=False, real=None):
         chi, _ = bending.curvatures(block, bending.geometry(block, state.positions))
         active.append(np.abs(chi) > knee)
-        return original(run, state, frames, compression_free)
+        return original(run, state, frames, compression_free, real)
 
     static.StaticRun.tangent = tangent  # type: ignore[method-assign]
     try:

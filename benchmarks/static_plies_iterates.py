@@ -300,7 +300,7 @@ def instrument() -> None:
 
     plain_tangent = static_module.StaticRun.tangent
 
-    def tangent(self, state, frames, compression_free=False):
+    def tangent(self, state, frames, compression_free=False, real=None):
         plies = _ply_states(self, state)
         touching = sum(int(p[0].sum()) for p in plies)
         ramp = sum(int(p[1].sum()) for p in plies)
@@ -314,7 +314,7 @@ def instrument() -> None:
             row.update(_changes(RECORD["last_ply"], plies))
         RECORD["last_ply"] = plies
         RECORD["current"]["iterations"].append(row)
-        return plain_tangent(self, state, frames, compression_free)
+        return plain_tangent(self, state, frames, compression_free, real)
 
     static_module.StaticRun.tangent = tangent
 

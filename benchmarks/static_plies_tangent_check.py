@@ -85,9 +85,9 @@ def tangent_check(name: str, resolution: str, every: int = 15, load: float | Non
     captured: list = []
     plain = static_module.StaticRun.tangent
 
-    def keep(self, state, frames, compression_free=False):
+    def keep(self, state, frames, compression_free=False, real=None):
         captured.append((self, state, frames))
-        return plain(self, state, frames, compression_free)
+        return plain(self, state, frames, compression_free, real)
 
     static_module.StaticRun.tangent = keep  # type: ignore[method-assign]
     try:

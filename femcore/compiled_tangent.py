@@ -42,7 +42,11 @@ class CompiledTangent:
         ) -> tuple[np.ndarray, np.ndarray]: ...
 
     def tangent_parts(
-        self, state: State, parts: list[int], compression_free: bool = False
+        self,
+        state: State,
+        parts: list[int],
+        compression_free: bool = False,
+        real: State | None = None,
     ) -> list[TangentPart] | None:
         """The tangent parts of the parts of the given indices (into ``parts``), or None if
         one of them has no tangent of its own.
@@ -50,8 +54,9 @@ class CompiledTangent:
         ``compression_free``: the element blocks that offer it (``compression_free_tangent``
         true, femcore.element: the fibrous shell, elements/fibrous/tangent.py
         ``membrane_hessian``) give their tangent with the fibres' compression left out of its
-        stress terms, the static solver's tangent far from equilibrium (docs/theory.md §6.5);
-        the other parts give their own tangent as without it.
+        stress terms (beyond the compression of ``real``, the increment's start, where it is
+        given), the static solver's tangent far from equilibrium (docs/theory.md §6.5); the
+        other parts give their own tangent as without it.
         """
         histories = self._histories(state)
         tangent: list[TangentPart] = []
@@ -62,7 +67,7 @@ class CompiledTangent:
                 and isinstance(part, ElementBlock)
                 and part.compression_free_tangent
             ):
-                own = part.tangent_compression_free(state, histories[i])
+                own = part.tangent_compression_free(state, histories[i], real=real)
             else:
                 own = part.tangent(state, histories[i])
             if own is None:

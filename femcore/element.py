@@ -241,12 +241,14 @@ class ElementBlock(ReadOnlyState, ABC):
         return None if parts is None else iter(parts)
 
     def tangent_compression_free(
-        self, state: State, history: Any = None
+        self, state: State, history: Any = None, real: State | None = None
     ) -> Sequence[TangentPart] | None:
         """``tangent`` with the fibres' compression left out of its stress terms, asked only
-        of a block that declares ``compression_free_tangent`` (femcore/compiled_tangent.py);
-        the default is ``tangent`` itself: a block without fibres has no compression to
-        leave out."""
+        of a block that declares ``compression_free_tangent`` (femcore/compiled_tangent.py):
+        the compression beyond that of ``real``, the state the increment started from (whose
+        compression is real, not a step's remainder), or all of it without ``real``. The
+        default is ``tangent`` itself: a block without fibres has no compression to leave
+        out."""
         return self.tangent(state, history)
 
     def fibre_edges(self) -> np.ndarray:

@@ -408,10 +408,11 @@ def _iterate(
         # of one): its fibres' compression is real, not a step's remainder, and there the
         # exact tangent is kept (a corner lowered by 40 mm, benchmarks/static_solver.py
         # line 1: 4-4-6-4 iterations with the compression-free tangent there, 4-4-4-4
-        # without).
+        # without); so is that compression at the later iterates (a column carries its
+        # load in compression: elements/fibrous/compression_floor.py).
         slack = 0.0 < run.compression_free < ratio and iteration > 1
         run.info["compression_free_tangents"] += int(slack)
-        k_ff, k_fp = run.tangent(state, frames, slack)
+        k_ff, k_fp = run.tangent(state, frames, slack, start if slack else None)
         rhs = r.ravel()[index]
         if moved_index.size:
             rhs = rhs - k_fp @ left.ravel()[moved_index]
@@ -708,15 +709,22 @@ class Tangent:
         self.assemble = FreeTangentAssembler(model.dofs, superset=True)
         self.graph = model.node_graph(others) if others else None
 
-    def __call__(self, state: State, frames: Frames, compression_free: bool = False):
+    def __call__(
+        self,
+        state: State,
+        frames: Frames,
+        compression_free: bool = False,
+        real: State | None = None,
+    ):
         """(K_ff, K_fp) at ``state``; ``compression_free``: the fibrous blocks' tangent with
-        their fibres' compression left out of its stress terms (docs/theory.md §6.5)."""
+        their fibres' compression (beyond that of ``real``, the increment's start) left out
+        of its stress terms (docs/theory.md §6.5)."""
         model, dofs = self.model, self.model.dofs
         parts: list[TangentPart] | None
         if self.first is not None and state is self.first[0] and not compression_free:
             parts = [part for i in self.own for part in self.first[1][i]]
         else:
-            parts = model.tangent_parts(state, self.own, compression_free)
+            parts = model.tangent_parts(state, self.own, compression_free, real)
         if parts is None:
             raise RuntimeError(
                 "an element block gave a tangent at the start of the solve and none later: a "

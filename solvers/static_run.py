@@ -231,15 +231,27 @@ class StaticRun:
             energy += self.dashpots.energy(state)
         return energy
 
-    def tangent(self, state: State, frames: Frames, compression_free: bool = False):
+    def tangent(
+        self,
+        state: State,
+        frames: Frames,
+        compression_free: bool = False,
+        real: State | None = None,
+    ):
         """(K_ff, K_fp) at ``state``, the dashpots' diagonal added in a stabilised
-        increment; ``compression_free``: that of solvers.newton.Tangent. Counted in
-        ``info["evaluations"]["tangent"]``; ``factor_at``'s in its "stability_tangents"."""
+        increment; ``compression_free``, ``real``: those of solvers.newton.Tangent. Counted
+        in ``info["evaluations"]["tangent"]``; ``factor_at``'s in its "stability_tangents"."""
         self.counts["tangent"] += 1
-        return self._assemble(state, frames, compression_free)
+        return self._assemble(state, frames, compression_free, real)
 
-    def _assemble(self, state: State, frames: Frames, compression_free: bool = False):
-        k_ff, k_fp = self._tangent(state, frames, compression_free)
+    def _assemble(
+        self,
+        state: State,
+        frames: Frames,
+        compression_free: bool = False,
+        real: State | None = None,
+    ):
+        k_ff, k_fp = self._tangent(state, frames, compression_free, real)
         if self.dashpots is not None:
             diagonal = self.dashpots.diagonal(self.model.dofs.free_slots)
             k_ff = (k_ff + sp.diags(diagonal, format="csc")).tocsc()

@@ -19,6 +19,10 @@
   at every iterate, 26-9-7 and 42 with it), its tip the same as the exact tangent's to 1e-6 mm
   (the tolerance of the solve, 1e-8 of the loads, moves the tip by less); a Mindlin strip and a
   model with contact keep the exact tangent.
+* The compression of the increment's start is kept (elements/fibrous/compression_floor.py):
+  taken at the state itself the tangent is the exact one, the compiled loops raise the strains
+  to the same floors, and a fibrous column is loaded past its buckling load by equal load steps
+  to the elastica.
 """
 
 from __future__ import annotations
@@ -41,7 +45,7 @@ from solvers.newton import compression_free_ratio
 from tests.test_fibrous_hessian_kernels import FABRICS, _cells
 from validation import specimens
 from validation.cases.fibrous_heavy_cantilever import strip as heavy_strip
-from validation.references.elastica import peirce_overhang
+from validation.references.elastica import buckled_cantilever_column, peirce_overhang
 
 TENSION = 500.0  # N/mm
 
@@ -133,6 +137,65 @@ def test_the_compiled_compression_free_hessians_give_the_numpy_ones(name):
     assert np.abs(got_sums - expected_sums).max() <= 1e-12 * np.abs(expected_sums).max()
     exact, _ = tangent.membrane_hessian(block, x, v, sums)
     assert np.abs(exact - expected).max() > 1e-6 * np.abs(expected).max()  # fibres compressed
+
+
+def test_with_its_own_compression_kept_the_compression_free_hessian_is_the_exact_one():
+    # The floor of each strain is the compression of the increment's start
+    # (elements/fibrous/compression_floor.py): taken at the state itself, no strain is raised
+    # and the tangent is the exact Hessian, to the last bit; a floor half way keeps half of
+    # the compression's stress terms (the tensions are linear in the strain here).
+    block, x, v, sums = _compressed_cells()
+    eps = _level_strains(block, x, v, sums)
+    levels = block.zeta.size
+    own = (eps[:, :levels], eps[:, levels:])
+    exact, _ = tangent.membrane_hessian(block, x, v, sums)
+    kept, _ = tangent.membrane_hessian(block, x, v, sums, compression_free=True, floors=own)
+    assert np.array_equal(kept, exact)
+    free, _ = tangent.membrane_hessian(block, x, v, sums, compression_free=True)
+    half = (own[0] / 2, own[1] / 2)
+    between, _ = tangent.membrane_hessian(block, x, v, sums, compression_free=True, floors=half)
+    assert np.allclose(between, (exact + free) / 2, rtol=0.0, atol=1e-9 * np.abs(exact).max())
+
+
+@pytest.mark.parametrize("name", sorted(FABRICS))
+def test_the_compiled_hessians_raise_the_strains_to_the_same_floors(name):
+    block, x, v, sums = _cells(FABRICS[name](), True)
+    levels = block.zeta.size
+    eps = _level_strains(block, x, v, sums)
+    floors = (np.minimum(eps[:, :levels], 0.0) / 2, np.minimum(eps[:, levels:], 0.0) / 3)
+    expected, expected_sums = tangent.membrane_hessian(
+        block, x, v, sums, compression_free=True, floors=floors
+    )
+    got, got_sums = hessian_kernels.membrane_hessians(
+        block, x, v, sums, compression_free=True, floors=floors
+    )
+    assert np.abs(got - expected).max() <= 1e-12 * np.abs(expected).max()
+    assert np.abs(got_sums - expected_sums).max() <= 1e-12 * np.abs(expected_sums).max()
+    free, _ = tangent.membrane_hessian(block, x, v, sums, compression_free=True)
+    assert np.abs(free - expected).max() > 1e-6 * np.abs(expected).max()  # floors matter
+
+
+def test_a_fibrous_column_is_loaded_past_its_buckling_load_by_equal_load_steps():
+    # The imperfect fibrous strip of tests/test_arc_step.py (100 x 5 mm, clamped, a dead tip
+    # load of 1.5 P_cr along it) carries its load in compression: with the strains of the
+    # compression-free tangent raised to zero, Newton lost the compression's geometric
+    # softening and stopped at a load factor of 0.6625 (P_cr at 2/3) after 8 cuts. With
+    # the start's compression kept, 10 equal load steps reach the elastica of Timoshenko and
+    # Gere (Theory of Elastic Stability, 1961, §2.7) within the arc length's tolerance of
+    # that test (three times its 20-cell discretisation error).
+    from tests.test_arc_step import ALONG_TOLERANCE, LATERAL_TOLERANCE, LENGTH, imperfect_column
+
+    model, tip, bending = imperfect_column("fibrous")
+    result = Static(increments=10, progress=False).solve(model)
+    assert result.info["compression_free"] == 1e-2  # the default for a fibrous model
+    assert result.info["compression_free_tangents"] > 0
+    assert result.frames[-1].load_factor == 1.0
+    expected = buckled_cantilever_column(
+        LENGTH, 1.5 * math.pi**2 * bending / (4 * LENGTH**2), bending
+    )
+    x, _, z = result.positions[tip].mean(axis=0)
+    assert z == pytest.approx(expected["lateral"], rel=LATERAL_TOLERANCE["fibrous"])
+    assert x == pytest.approx(expected["tip_x"], abs=ALONG_TOLERANCE["fibrous"])
 
 
 def test_peirce_fibrous_cantilever_converges_in_at_most_ten_iterations_per_increment():

@@ -26,6 +26,7 @@ from elements.fibrous import (
 )
 from elements.fibrous import tangent as stiffness
 from elements.fibrous import tangent_pieces as pieces
+from elements.fibrous.compression_floor import real_compression
 from elements.fibrous.fibres import by_family, fibre_ordering, shear_orientation
 from elements.fibrous.fold_branch import branch_view, initial_branch, updated_branch
 from elements.fibrous.packed_laws import pack_laws
@@ -410,18 +411,29 @@ class FibrousShellBlock(ElementBlock):
     compression_free_tangent = True
 
     def tangent(
-        self, state: State, history=None, compression_free: bool = False
+        self,
+        state: State,
+        history=None,
+        compression_free: bool = False,
+        real: State | None = None,
     ) -> list[TangentPart]:
         """Stiffness of tension + shear and of bending (tangent.py ``tangent``): with nodal
         normals a sparse matrix and the bending patches, closed form; with element normals
         each cell's tension + shear by central differences of its loads.
         ``compression_free``: the tension's stress terms with the fibres' strains raised to
-        at least zero (tangent.py ``membrane_hessian``)."""
-        return stiffness.tangent(branch_view(self, history), state, compression_free)
+        at least zero, or with ``real`` (a state whose compression is real: the increment's
+        start) to at least their compression there (tangent.py ``membrane_hessian``,
+        compression_floor.py)."""
+        floors = None
+        if compression_free and real is not None:
+            floors = real_compression(self, real)
+        return stiffness.tangent(branch_view(self, history), state, compression_free, floors)
 
-    def tangent_compression_free(self, state: State, history=None) -> list[TangentPart]:
+    def tangent_compression_free(
+        self, state: State, history=None, real: State | None = None
+    ) -> list[TangentPart]:
         """``tangent`` with ``compression_free`` (femcore.element)."""
-        return self.tangent(state, history, compression_free=True)
+        return self.tangent(state, history, compression_free=True, real=real)
 
     def tangent_pieces(self, state: State, history=None) -> Iterator[TangentPart]:
         """``tangent`` a slice of cells at a time (tangent_pieces.py): with nodal normals the

@@ -29,6 +29,7 @@ import math
 
 import numpy as np
 
+from elements.fibrous.compression_floor import strain_floors
 from elements.fibrous.packed_laws import law_slope, law_value
 from elements.fibrous.tangent_kernels import cell_normal
 from elements.shell_geometry import GUARD
@@ -149,12 +150,13 @@ def _add_level(hz, half, h_w):
 def _hessian_cells(
     x, v, sums, thickness, guard, zeta, weights, reference_area, reference_length1,
     reference_length2, shear_sign, reference_shear, xi_is_warp, law_integers, law_reals,
-    variation, compression_free, column_rows, column_count, out, d_sums, size,
+    variation, compression_free, floor1, floor2, column_rows, column_count, out, d_sums, size,
 ):  # fmt: skip
     """out (m, 27, 27): each cell's Hessian in (x, psi, S) per corner (tangent.py
     ``membrane_hessian``), d_sums (m, 3, 3): dW/dS_k; x, v, sums (m, 3, 3) the corners,
     directors and nodal normal sums S_k. ``compression_free``: the tensions of the stress
-    terms at the strains raised to at least zero (tangent.py ``membrane_hessian``). The cells
+    terms at the strains raised to at least floor1, floor2 (m, L) (tangent.py
+    ``membrane_hessian``). The cells
     in chunks of ``size``, the scratch allocated once a chunk (each cell writes every entry
     it reads, and zeroes those it sums into, as the arrays allocated per cell were)."""
     m = x.shape[0]
@@ -247,8 +249,8 @@ def _hessian_cells(
                     - reference_shear[cell, f]
                 )
                 if compression_free:  # the stress terms of a slack fibre (tangent.py)
-                    t1 = law_value(law_integers, law_reals, law1, max(eps1, 0.0))
-                    t2 = law_value(law_integers, law_reals, law2, max(eps2, 0.0))
+                    t1 = law_value(law_integers, law_reals, law1, max(eps1, floor1[cell, f]))
+                    t2 = law_value(law_integers, law_reals, law2, max(eps2, floor2[cell, f]))
                 else:
                     t1 = law_value(law_integers, law_reals, law1, eps1)
                     t2 = law_value(law_integers, law_reals, law2, eps2)
@@ -504,8 +506,9 @@ def membrane_hessians(
     sums: np.ndarray,
     cells: slice | np.ndarray = slice(None),
     compression_free: bool = False,
+    floors: tuple[np.ndarray, np.ndarray] | None = None,
 ):
-    """``tangent.membrane_hessian(block, x, v, sums, compression_free)`` by the compiled
+    """``tangent.membrane_hessian(block, x, v, sums, compression_free, floors)`` by the compiled
     loop: the cells' Hessians (m, 3, 9, 3, 9) in (x, psi, S) per corner (N/mm, N, N mm and per
     unit of S) and dW/dS_k (m, 3, 3), N mm; x, v, sums (m, 3, 3) the corners, directors and
     normal sums (nodal normals) of the block's ``cells`` (a slice or an index array of them,
@@ -514,6 +517,7 @@ def membrane_hessians(
     out = np.empty((m, 27, 27))
     d_sums = np.empty((m, 3, 3))
     integers, reals = block.packed_laws
+    floor1, floor2 = strain_floors(floors, m, block.zeta.size, cells)
     _hessian_cells(
         np.ascontiguousarray(x, dtype=float),
         np.ascontiguousarray(v, dtype=float),
@@ -532,6 +536,8 @@ def membrane_hessians(
         reals,
         bool(block.thickness_variation),
         bool(compression_free),
+        floor1,
+        floor2,
         _COLUMN_ROWS,
         _COLUMN_COUNT,
         out,
@@ -549,8 +555,10 @@ def pair_hessians(
     pairs,
     chunk=CHUNK,
     compression_free: bool = False,
+    floors: tuple[np.ndarray, np.ndarray] | None = None,
 ):
-    """The cells' Hessians of ``membrane_hessians`` (with ``compression_free``) summed on the
+    """The cells' Hessians of ``membrane_hessians`` (with ``compression_free`` and
+    ``floors``) summed on the
     node pairs of ``pairs`` (a CornerPairs pattern): (pairs, 9, 9), the numbers of
     ``pairs.hessian`` to the last bit, and dW/dS_k (m, 3, 3). The cells ``chunk`` at a time,
     each chunk's Hessians summed before the next is formed: 5.8 kB a cell of them held at
@@ -561,7 +569,7 @@ def pair_hessians(
     for start in range(0, m, chunk):
         cells = slice(start, min(start + chunk, m))
         hessian, d_sums[cells] = membrane_hessians(
-            block, x[cells], v[cells], sums[cells], cells, compression_free
+            block, x[cells], v[cells], sums[cells], cells, compression_free, floors
         )
         pair_sums(pairs.slot[cells], hessian, pairs.n_pairs, h_blocks)
     return h_blocks, d_sums

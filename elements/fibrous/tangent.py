@@ -18,6 +18,7 @@ import scipy.sparse as sp
 
 from elements.base import CellTangent, SparseTangent, local_tangent, stacked_local_tangent
 from elements.fibrous import bending, hessian_kernels, kernels, tangent_kernels
+from elements.fibrous.compression_floor import strain_floors
 from elements.fibrous.fibres import by_family
 from elements.fibrous.geometry import (
     cell_geometry,
@@ -48,7 +49,10 @@ __all__ = [
 
 
 def tangent(
-    block: FibrousShellBlock, state: State, compression_free: bool = False
+    block: FibrousShellBlock,
+    state: State,
+    compression_free: bool = False,
+    floors: tuple[np.ndarray, np.ndarray] | None = None,
 ) -> list[TangentPart]:
     """Stiffness of tension + shear and of bending (Eq. 37 differentiated, see bending.py
     ``tangent``). Tension + shear: with element normals each cell's own 18 x 18, by central
@@ -58,10 +62,11 @@ def tangent(
     compression_free : with nodal normals, the stress terms of the tension (those of T, not
     of T') with each fibre's strain raised to at least zero (``membrane_hessian``): the
     tangent of Newton's iterates far from equilibrium (solvers.newton, docs/theory.md §6.5).
-    The material terms T'(eps) are kept; element normals ignore the flag."""
+    The material terms T'(eps) are kept; element normals ignore the flag. ``floors``: the
+    strains it raises them to (compression_floor.py; None: zero)."""
     bend = bending.tangent(block, state.positions)
     if block.nodal_normals:
-        sparse, second = nodal_membrane_tangent(block, state, compression_free)
+        sparse, second = nodal_membrane_tangent(block, state, compression_free, floors)
         # The cell-local translation blocks join the bending patch's (its first 3 nodes).
         bend.blocks[:, :3, :, :3] += second
         return [sparse, bend]
@@ -102,7 +107,10 @@ def cell_gradient(
 
 
 def nodal_membrane_tangent(
-    block: FibrousShellBlock, state: State, compression_free: bool = False
+    block: FibrousShellBlock,
+    state: State,
+    compression_free: bool = False,
+    floors: tuple[np.ndarray, np.ndarray] | None = None,
 ) -> tuple[SparseTangent, np.ndarray]:
     """Exact stiffness of tension + shear with nodal normals (docs/theory.md §2.6): a sparse
     matrix over the nodes in 6 x 6 blocks and the cell-local translation blocks of the
@@ -116,7 +124,8 @@ def nodal_membrane_tangent(
 
     H and J are block sparse on the node pairs of the cells (``CornerPairs``, built once):
     their blocks are summed into that fixed pattern by one bincount each, and the product
-    is a BSR matrix with 6 x 6 blocks. ``compression_free``: see ``membrane_hessian``.
+    is a BSR matrix with 6 x 6 blocks. ``compression_free``, ``floors``: see
+    ``membrane_hessian``.
     """
     conn = block.connectivity
     x = state.positions[conn]
@@ -127,7 +136,7 @@ def nodal_membrane_tangent(
         block.compiled and hessian_kernels.AVAILABLE
     ):  # the same numbers by the compiled loops (hessian_kernels.py, tangent_kernels.py)
         h_blocks, d_sums = hessian_kernels.pair_hessians(
-            block, x, v, sums, pairs, compression_free=compression_free
+            block, x, v, sums, pairs, compression_free=compression_free, floors=floors
         )
         ds_dx = hessian_kernels.normal_share_jacobians(x, block.wall_nodes[conn])
         ds_dx = on_planes(block, conn, ds_dx)
@@ -140,7 +149,7 @@ def nodal_membrane_tangent(
             )
         return SparseTangent(pairs.product(h_blocks, j_blocks)), second
 
-    hessian, d_sums = membrane_hessian(block, x, v, sums, compression_free)
+    hessian, d_sums = membrane_hessian(block, x, v, sums, compression_free, floors)
     h_ext = pairs.hessian(hessian)
     # J: (u, psi) of node k -> rows 9k..9k+5; S_k <- d(alpha_k^f n_f)/dx_j for k, j
     # corners of f.
@@ -160,6 +169,7 @@ def membrane_hessian(
     v: np.ndarray,
     sums: np.ndarray,
     compression_free: bool = False,
+    floors: tuple[np.ndarray, np.ndarray] | None = None,
 ) -> tuple[np.ndarray, np.ndarray]:
     """d(``cell_gradient``)/d(x, psi, S) of every cell (m, 3, 9, 3, 9), with nodal normals:
     row (corner, dW/dx | dW/dpsi | dW/dS), column (corner, x | psi | S); N/mm, N, N mm and
@@ -180,21 +190,23 @@ def membrane_hessian(
 
     compression_free : the tension's stress terms (every term of T itself: the loads P_a
     and dW/dn that the second derivatives of g, n and D are contracted with, and the -2 T of
-    d(T / l^2)) with each fibre's strain raised to at least zero; the material term T'(eps)
-    at the strain itself. Not the Hessian of W then, but the tangent that Newton's iterates
-    far from equilibrium use (docs/theory.md §6.5): there a step's remainder compresses
-    fibres whose stiffness is thousands of times the bending's, and their compression's
-    geometric stiffness makes the tangent indefinite. dW/dS (the second output) is then that
-    of the raised strains too.
+    d(T / l^2)) with each fibre's strain raised to at least its floor (``floors``: (warp,
+    weft) (m, L), the compression of the increment's start, compression_floor.py; None:
+    zero); the material term T'(eps) at the strain itself. Not the Hessian of W then, but
+    the tangent that Newton's iterates far from equilibrium use (docs/theory.md §6.5):
+    there a step's remainder compresses fibres whose stiffness is thousands of times the
+    bending's, and their compression's geometric stiffness makes the tangent indefinite.
+    dW/dS (the second output) is then that of the raised strains too.
     """
     geo = cell_geometry(block, x, v, True, sums)
     strain = strains(block, geo)
     slack = strain
     if compression_free:
+        floor1, floor2 = strain_floors(floors, len(x), block.zeta.size)
         slack = {
             **strain,
-            "eps1": np.maximum(strain["eps1"], 0.0),
-            "eps2": np.maximum(strain["eps2"], 0.0),
+            "eps1": np.maximum(strain["eps1"], floor1),
+            "eps2": np.maximum(strain["eps2"], floor2),
         }
     p1, p2, normal_load = layer_loads(block, geo, slack)
     m = len(x)
