@@ -4,8 +4,8 @@ meshio reads the nodes and the elements of an .inp file and skips every other ke
 a word; a deck's *BOUNDARY, *MATERIAL, *SHELL SECTION or *STEP would vanish silently. The scan
 looks only at the lines that start with one "*" (comments start with "**"), of the main deck
 and of the files it includes (femcore.inp_include), so it costs one pass over the text, and
-tells the reader which keywords it does not turn into the mesh, where the *NODE blocks are and
-the *INSTANCE lines of an assembly, each where it stands (the file and its line).
+tells the reader which keywords it does not turn into the mesh and the *INSTANCE lines of an
+assembly, each where it stands (the file and its line).
 """
 
 from __future__ import annotations
@@ -47,8 +47,6 @@ class DeckScan:
     ignored : dict[str, list[str]]
         Keyword (upper case, e.g. "SHELL SECTION") -> the places where a keyword the mesh
         reader does not use appears, in order of first appearance.
-    node_blocks : list[str]
-        The place of each *NODE keyword line.
     instances : list[tuple[str, str, list[list[float]]]]
         The *INSTANCE lines of an assembly: (place, NAME=, the numbers of each data line
         before its *END INSTANCE: a translation, then a rotation). meshio reads a part's mesh
@@ -56,7 +54,6 @@ class DeckScan:
     """
 
     ignored: dict[str, list[str]] = field(default_factory=dict)
-    node_blocks: list[str] = field(default_factory=list)
     instances: list[tuple[str, str, list[list[float]]]] = field(default_factory=list)
 
     def ignored_summary(self) -> str:
@@ -108,8 +105,6 @@ def scan_deck(path: str | Path) -> DeckScan:
             instance = []
             place = located(file, number, path)
             scan.instances.append((place, _parameter(parameters, "NAME") or "?", instance))
-        elif keyword == "NODE":
-            scan.node_blocks.append(located(file, number, path))
         elif keyword not in MESH_KEYWORDS and keyword not in _NEUTRAL_KEYWORDS:
             scan.ignored.setdefault(keyword, []).append(located(file, number, path))
     return scan

@@ -37,9 +37,15 @@ class DeckSets:
         The main deck, then each file it includes, in reading order.
     mesh_text : str
         The deck with its included files in place, without its *NSET and *ELSET blocks and
-        *INCLUDE lines, for meshio to read nodes and elements.
+        *INCLUDE lines, every *NODE block's lines gathered in the first (meshio 5.3 keeps the
+        last *NODE block alone), for meshio to read nodes and elements.
     node_labels : dict[int, int]
-        Node label -> index (the order of the *NODE block's lines, meshio's).
+        Node label -> index (the order of the *NODE blocks' lines in the deck, meshio's; a
+        label given again is the later line's node, as the deck's reading gives it).
+    node_starts : list[int]
+        The index of each *NODE block's first node (its NSET= holds its nodes).
+    node_count : int
+        The node lines of every *NODE block (meshio's points).
     element_numbers : list[list[int]]
         Per *ELEMENT block, the integers of its data lines (label, nodes, label, ...).
     element_lines : list[list[tuple[int, int, int]]]
@@ -47,12 +53,15 @@ class DeckSets:
     sets : list[tuple[str, str, bool, tuple[int, int], list[tuple[tuple[int, int], list[str]]]]]
         (NSET or ELSET, name, GENERATE, keyword line's place, [(place, items)]) in deck order.
     block_sets : list[tuple[str, str, int]]
-        NSET= of *NODE and ELSET= of *ELEMENT: (NSET or ELSET, name, *ELEMENT block).
+        NSET= of *NODE and ELSET= of *ELEMENT: (NSET or ELSET, name, *NODE or *ELEMENT
+        block).
     """
 
     files: list[Path] = field(default_factory=list)
     mesh_text: str = ""
     node_labels: dict[int, int] = field(default_factory=dict)
+    node_starts: list[int] = field(default_factory=list)
+    node_count: int = 0
     element_numbers: list[list[int]] = field(default_factory=list)
     element_lines: list[list[tuple[int, int, int]]] = field(default_factory=list)
     sets: list[tuple[str, str, bool, tuple[int, int], list[tuple[tuple[int, int], list[str]]]]] = (
@@ -77,8 +86,8 @@ def _parameters(line: str) -> tuple[str, dict[str, str]]:
 
 
 def scan_deck_sets(path: Path) -> DeckSets:
-    """The sets of the deck at ``path`` and of the files it includes, as written (one *NODE
-    block: the caller checks), and its text without them.
+    """The sets of the deck at ``path`` and of the files it includes, as written, and its text
+    without them, for meshio.
 
     Raises
     ------
@@ -89,6 +98,8 @@ def scan_deck_sets(path: Path) -> DeckSets:
     deck = DeckSets()
     file_ids: dict[Path, int] = {}
     keep: list[str] = []
+    node_lines: list[str] = []  # every *NODE block's, for the first block's place in ``keep``
+    node_at = -1
     mode = ""
     for file, number, line in deck_lines(path):
         if line.startswith("**"):
@@ -100,8 +111,14 @@ def scan_deck_sets(path: Path) -> DeckSets:
                 name = parameters.get(mode, "")
                 deck.sets.append((mode, name, "GENERATE" in parameters, at, []))
                 continue  # not for meshio
-            if mode == "NODE" and parameters.get("NSET"):
-                deck.block_sets.append(("NSET", parameters["NSET"], -1))
+            if mode == "NODE":
+                deck.node_starts.append(len(node_lines))
+                if parameters.get("NSET"):
+                    block = len(deck.node_starts) - 1
+                    deck.block_sets.append(("NSET", parameters["NSET"], block))
+                if node_at >= 0:
+                    continue  # its lines join the first block's
+                node_at = len(keep)
             if mode == "ELEMENT":
                 deck.element_numbers.append([])
                 deck.element_lines.append([])
@@ -115,12 +132,15 @@ def scan_deck_sets(path: Path) -> DeckSets:
             if items:
                 deck.sets[-1][4].append((at, items))
             continue
-        keep.append(line)
         if mode == "NODE":
-            label = line.split(",", 1)[0].strip()
-            if label.lstrip("+-").isdigit():
-                deck.node_labels[int(label)] = len(deck.node_labels)
-        elif mode == "ELEMENT":
+            if line.strip():  # meshio's point index: the count of node lines before
+                label = line.split(",", 1)[0].strip()
+                if label.lstrip("+-").isdigit():
+                    deck.node_labels[int(label)] = len(node_lines)
+                node_lines.append(line)
+            continue
+        keep.append(line)
+        if mode == "ELEMENT":
             numbers = deck.element_numbers[-1]
             before = len(numbers)
             try:
@@ -130,6 +150,8 @@ def scan_deck_sets(path: Path) -> DeckSets:
             if len(numbers) > before:
                 deck.element_lines[-1].append((before, number, at[0]))
     deck.files = list(file_ids) or [path]
+    deck.node_count = len(node_lines)
+    keep[node_at + 1 : node_at + 1] = node_lines if node_at >= 0 else []
     deck.mesh_text = "\n".join(keep) + "\n"
     return deck
 
@@ -182,9 +204,11 @@ def resolve_deck_sets(
     cell_sets: dict[str, list[np.ndarray]] = {}
     # A name defined more than once (ELSET= on several *ELEMENT blocks, *NSET or *ELSET
     # repeated) is one set holding every definition's members, as Abaqus and CalculiX read it.
+    ends = [*deck.node_starts[1:], deck.node_count]
     for kind, name, block in deck.block_sets:
         if kind == "NSET":
-            point_sets[name] = np.arange(len(deck.node_labels), dtype=np.int64)
+            nodes_of_block = np.arange(deck.node_starts[block], ends[block], dtype=np.int64)
+            point_sets[name] = np.union1d(point_sets.get(name, nodes_of_block), nodes_of_block)
         else:
             before = cell_sets.get(name, [np.zeros(0, dtype=np.int64)] * len(sizes))
             cell_sets[name] = [

@@ -99,15 +99,9 @@ def read_mesh(path: str | Path, file_format: str | None = None) -> Mesh:
 
 
 def _checked_deck(path: Path) -> DeckScan:
-    """The keyword scan of an Abaqus deck (its included files in place), or ValueError for a
-    deck meshio would read wrong (several *NODE blocks, in one file or several)."""
+    """The keyword scan of an Abaqus deck (its included files in place), or ValueError for an
+    assembly the reader cannot place (several instances, or a moved one)."""
     deck = scan_deck(path)
-    if len(deck.node_blocks) > 1:
-        raise ValueError(
-            f"{path} has {len(deck.node_blocks)} *NODE blocks ({', '.join(deck.node_blocks)}); "
-            "the .inp reader (meshio) keeps only the last one: gather the nodes in one *NODE "
-            "block"
-        )
     if len(deck.instances) > 1:
         listed = ", ".join(f"{name!r} ({line})" for line, name, _ in deck.instances)
         raise ValueError(

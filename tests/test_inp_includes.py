@@ -62,6 +62,21 @@ def test_a_set_in_an_included_file_names_the_nodes_of_the_main_deck(tmp_path):
     assert Mesh.read(main).node_sets["CLAMP"].tolist() == [0, 3]
 
 
+def test_nodes_in_two_files_are_one_deck_s_nodes(tmp_path):
+    """The main deck's nodes and the included file's, an element of the included file on
+    both: meshio read each file's nodes apart ("KeyError: 1" for the element), and two *NODE
+    blocks in one deck were refused (meshio keeps the last alone)."""
+    main = write(tmp_path, {
+        "main.inp": "*Node, nset=LOW\n 1, 0., 0., 0.\n 2, 10., 0., 0.\n 5, 20., 0., 0.\n"
+                    "*INCLUDE, INPUT=upper.inp\n",
+        "upper.inp": "*Node, nset=HIGH\n 3, 10., 10., 0.\n 4, 0., 10., 0.\n 6, 20., 10., 0.\n"
+                     + ELEMENTS,
+    })  # fmt: skip
+    mesh = Mesh.read(main)
+    assert mesh.n_triangles == 4 and mesh.node_sets["HIGH"].tolist() == [3, 4, 5]
+    assert mesh.points[mesh.triangles[0]].tolist() == [[0, 0, 0], [10, 0, 0], [10, 10, 0]]
+
+
 # ------------------------------------------------------------------ where INPUT= is found
 def test_a_relative_input_is_the_file_beside_the_deck_whatever_the_working_folder(
     tmp_path, monkeypatch
