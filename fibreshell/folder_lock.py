@@ -19,9 +19,11 @@ process it names has ended (or its pid now belongs to a process started at anoth
 read from ``/proc`` where there is one). A lock of another host, or on a system where
 whether a process lives cannot be asked without harming it (Windows: ``os.kill`` there ends
 the process), is never taken over: the message says which file to delete once no such run
-is going. A lock file found empty or partly written (a reader between another command's
-O_CREAT and its write) is that command's, held, until it is EMPTY_LOCK_AGE_S old; a command
-whose record cannot be written (a full disk) removes its lock and raises OutputError."""
+is going. The record is written before the lock file appears (linked into place: ``_create``);
+a lock file found empty or partly written all the same (a file system without hard links, a
+command killed by an earlier version between creating its lock and writing it) is held until
+it is EMPTY_LOCK_AGE_S old, then taken over; a command whose record cannot be written (a full
+disk) leaves no lock and raises OutputError."""
 
 from __future__ import annotations
 
@@ -152,11 +154,12 @@ def _guarded(lock: Path) -> Path:
 
 
 def _refusal(lock: Path, record: dict[str, Any], what: str) -> FolderInUse:
+    other = "output folder" if lock.name == LOCK_FILE else "file name"
     return FolderInUse(
         f"{what} {str(_guarded(lock))!r} is in use by {_describe(record)}: two commands "
         "writing into one folder or one file remove and mix each other's files; wait for it "
-        "to end or give another output folder (if no such command is running any more, "
-        f"delete {str(lock)!r})"
+        f"to end or give another {other} (if no such command is running any more, delete "
+        f"{str(lock)!r})"
     )
 
 
@@ -174,6 +177,42 @@ def _take_over(lock: Path, stale: dict[str, Any]) -> bool:
         os.rename(aside, lock)
         return False
     aside.unlink(missing_ok=True)
+    return True
+
+
+def _write_new(path: Path, text: str) -> None:
+    """Create the file ``path`` (FileExistsError if it exists) holding ``text``; removed
+    again, and OutputError raised, when ``text`` cannot be written (a full disk)."""
+    descriptor = os.open(path, os.O_CREAT | os.O_EXCL | os.O_WRONLY, 0o644)
+    try:
+        with os.fdopen(descriptor, "w") as handle:
+            handle.write(text)
+    except OSError as error:
+        path.unlink(missing_ok=True)
+        raise OutputError.from_error(error, "nothing (the lock was not taken)") from None
+
+
+def _create(lock: Path, text: str) -> bool:
+    """Create the lock file ``lock`` holding ``text``; False when it exists.
+
+    The record is written to a file of its own first, then linked as ``lock`` (``link``
+    fails when the name exists: atomic on local file systems and on NFS), so that a reader
+    never finds the lock without its whole record. Where hard links are not to be had (FAT,
+    some network shares) the lock is created, then written: a reader may then find it empty
+    for an instant, which it takes as held (``_read``: "unwritten")."""
+    staged = lock.with_name(f"{lock.name}.new-{os.getpid()}-{uuid.uuid4().hex[:8]}")
+    _write_new(staged, text)
+    try:
+        os.link(staged, lock)
+    except FileExistsError:
+        return False
+    except OSError:  # no hard links here
+        try:
+            _write_new(lock, text)
+        except FileExistsError:
+            return False
+    finally:
+        staged.unlink(missing_ok=True)
     return True
 
 
@@ -221,10 +260,9 @@ def folder_lock(
         "process_start": _process_start(os.getpid()),
         "token": uuid.uuid4().hex,
     }
+    text = json.dumps(record, indent=1) + "\n"
     for _ in range(3):  # a stale lock taken over, then created: a race lost twice is refused
-        try:
-            descriptor = os.open(lock, os.O_CREAT | os.O_EXCL | os.O_WRONLY, 0o644)
-        except FileExistsError:
+        if not _create(lock, text):
             other = _read(lock)
             if other is None:  # released meanwhile
                 continue
@@ -248,12 +286,6 @@ def folder_lock(
                     stacklevel=3,
                 )
             continue
-        try:
-            with os.fdopen(descriptor, "w") as handle:
-                handle.write(json.dumps(record, indent=1) + "\n")
-        except OSError as error:  # a full disk: leave no lock without its record behind
-            lock.unlink(missing_ok=True)
-            raise OutputError.from_error(error, "nothing (the lock was not taken)") from None
         break
     else:
         raise _refusal(lock, _read(lock) or {"unreadable": "(gone)"}, what)

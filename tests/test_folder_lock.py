@@ -268,10 +268,50 @@ def test_a_checkpoint_may_not_be_named_as_the_lock(tmp_path):
 
 
 # ------------------------------------------------------------------ a lock being written
+def test_the_lock_file_appears_with_its_whole_record(tmp_path, monkeypatch):
+    """Linked into place once written: a reader never finds it empty (it was created, then
+    written, and a reader in between found an empty file)."""
+    import fibreshell.folder_lock as folder_lock_module
+
+    out = tmp_path / "out"
+    out.mkdir()
+    seen = []
+    real_link = os.link
+
+    def link(source, target):
+        seen.append(json.loads(Path(source).read_text())["task"])
+        return real_link(source, target)
+
+    monkeypatch.setattr(folder_lock_module.os, "link", link)
+    with folder_lock(out, "the run of 'b.toml'") as lock:
+        assert seen == ["the run of 'b.toml'"] and holder(out)["task"] == seen[0]
+        assert sorted(p.name for p in out.iterdir()) == [lock.name]  # the staged file gone
+
+
+def test_without_hard_links_the_lock_is_created_then_written(tmp_path, monkeypatch):
+    import errno
+
+    import fibreshell.folder_lock as folder_lock_module
+
+    def no_link(source, target):
+        raise OSError(errno.EPERM, "Operation not permitted")
+
+    out = tmp_path / "out"
+    out.mkdir()
+    monkeypatch.setattr(folder_lock_module.os, "link", no_link)
+    with folder_lock(out, "the run of 'a.toml'"):
+        assert holder(out)["task"] == "the run of 'a.toml'"
+        with pytest.raises(FolderInUse, match="in use by the run of 'a.toml'"):
+            with folder_lock(out, "the run of 'b.toml'"):
+                pass
+    assert list(out.iterdir()) == []
+
+
 @pytest.mark.parametrize("text", ["", '{\n "pid": 12'], ids=["empty", "partial"])
 def test_a_lock_younger_than_its_age_limit_without_its_whole_record_is_held(tmp_path, text):
-    """The window between the lock's O_CREAT and the write of its record: a command taking the
-    folder this instant, refused as it is."""
+    """The window between the lock's O_CREAT and the write of its record (a file system
+    without hard links, where the lock is created, then written): a command taking the folder
+    this instant, refused as it is."""
     out = tmp_path / "out"
     out.mkdir()
     (out / LOCK_FILE).write_text(text)
@@ -307,7 +347,7 @@ def test_a_lock_of_bytes_that_are_not_text_is_refused_not_a_crash(tmp_path):
 
 def test_a_lock_whose_record_cannot_be_written_is_not_left_behind(tmp_path, monkeypatch):
     """A full disk as the record is written: the empty lock stayed, refusing every command
-    for 10 s, and the error was a bare OSError."""
+    for 10 s, and the error was a bare OSError. Neither the lock nor its staged record stays."""
     import errno
 
     import fibreshell.folder_lock as folder_lock_module
@@ -332,7 +372,7 @@ def test_a_lock_whose_record_cannot_be_written_is_not_left_behind(tmp_path, monk
     with pytest.raises(OutputError, match="No space left on device"):
         with folder_lock(out, "the run of 'b.toml'"):
             pass
-    assert not (out / LOCK_FILE).exists()
+    assert list(out.iterdir()) == []
 
 
 # ------------------------------------------------------------------ a checkpoint elsewhere

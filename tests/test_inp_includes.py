@@ -121,6 +121,12 @@ def test_a_missing_included_file_is_refused_naming_the_including_file_and_line(t
         Mesh.read(main)
 
 
+def test_an_include_without_its_file_name_is_refused_naming_its_line(tmp_path):
+    main = write(tmp_path, {"main.inp": MESH + "*Include\n"})  # was "No such file: '*Include'"
+    with pytest.raises(ValueError, match=r"main.inp: line 13: \*INCLUDE: no INPUT= file name"):
+        Mesh.read(main)
+
+
 def test_an_include_cycle_is_refused_naming_the_chain(tmp_path):
     main = write(tmp_path, {"main.inp": "*INCLUDE, INPUT=mesh.inp\n",
                             "mesh.inp": MESH + "*INCLUDE, INPUT=main.inp\n"})  # fmt: skip
