@@ -61,7 +61,7 @@ def deck_lines(path: Path) -> Iterator[tuple[Path, int, str]]:
         INPUT= that reaches it), an include cycle (the chain of files); naming the file: one
         that is not UTF-8 text.
     """
-    yield from _lines(path, path.parent, [path.resolve()])
+    return _lines(path, path.parent, [path.resolve()])
 
 
 def _lines(path: Path, job: Path, chain: list[Path]) -> Iterator[tuple[Path, int, str]]:
@@ -72,7 +72,7 @@ def _lines(path: Path, job: Path, chain: list[Path]) -> Iterator[tuple[Path, int
             f"cannot read {path} as 'abaqus': not a text file ({err.reason} at byte {err.start})"
         ) from None
     for number, line in enumerate(text.splitlines(), start=1):
-        if not _is_include(line):
+        if not (line.startswith("*") and _is_include(line)):
             yield path, number, line
             continue
         where = f"{path}: line {number}: *INCLUDE"
@@ -93,8 +93,9 @@ def _lines(path: Path, job: Path, chain: list[Path]) -> Iterator[tuple[Path, int
 
 
 def _is_include(line: str) -> bool:
-    """Whether ``line`` is an *INCLUDE keyword line (keywords: any case, blanks ignored)."""
-    if not line.startswith("*") or line.startswith("**"):
+    """Whether the keyword or comment line ``line`` is an *INCLUDE keyword line (keywords:
+    any case, blanks ignored)."""
+    if line.startswith("**"):
         return False
     head = line[1:].partition(",")[0]
     return "".join(head.split()).upper() == "INCLUDE"

@@ -101,11 +101,14 @@ def scan_deck_sets(path: Path) -> DeckSets:
     node_lines: list[str] = []  # every *NODE block's, for the first block's place in ``keep``
     node_at = -1
     mode = ""
+    current, file_id = None, 0
     for file, number, line in deck_lines(path):
         if line.startswith("**"):
             continue
-        at = (file_ids.setdefault(file, len(file_ids)), number)
+        if file is not current:  # the file's index, looked up where the file changes only
+            current, file_id = file, file_ids.setdefault(file, len(file_ids))
         if line.startswith("*"):
+            at = (file_id, number)
             mode, parameters = _parameters(line)
             if mode in ("NSET", "ELSET"):
                 name = parameters.get(mode, "")
@@ -130,7 +133,7 @@ def scan_deck_sets(path: Path) -> DeckSets:
         if mode in ("NSET", "ELSET"):
             items = [item.strip() for item in line.split(",") if item.strip()]
             if items:
-                deck.sets[-1][4].append((at, items))
+                deck.sets[-1][4].append(((file_id, number), items))
             continue
         if mode == "NODE":
             if line.strip():  # meshio's point index: the count of node lines before
@@ -148,7 +151,7 @@ def scan_deck_sets(path: Path) -> DeckSets:
             except ValueError:
                 del numbers[before:]  # meshio says what is wrong with the line
             if len(numbers) > before:
-                deck.element_lines[-1].append((before, number, at[0]))
+                deck.element_lines[-1].append((before, number, file_id))
     deck.files = list(file_ids) or [path]
     deck.node_count = len(node_lines)
     keep[node_at + 1 : node_at + 1] = node_lines if node_at >= 0 else []
