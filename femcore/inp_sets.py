@@ -3,11 +3,14 @@
 meshio 5.3 reads an .inp file's sets with rules of its own: ``*NSET, GENERATE`` only with
 the increment written and on one data line, an *ELSET listed for the *ELEMENT blocks read
 before it only, an element label the deck does not define dropped, a node label it does not
-define a KeyError, ``*NODE, NSET=`` ignored. Here the sets are read as Abaqus reads them (a
-data line of labels or set names; GENERATE lines of ``first, last[, increment]``, increment
-1 by default, as many as given; NSET= and ELSET= of *NODE and *ELEMENT) and a label or a
-set name the deck does not define is refused naming the file, the line and the set. meshio
-then reads the deck's nodes and elements from a copy without its *NSET and *ELSET blocks.
+define a KeyError, ``*NODE, NSET=`` ignored, and the *INCLUDE files each read as a mesh of its
+own (their element sets dropped, their node sets unable to name the main deck's nodes). Here
+the deck is read with its included files in place (femcore.inp_include) and the sets as
+Abaqus reads them (a data line of labels or set names; GENERATE lines of ``first, last[,
+increment]``, increment 1 by default, as many as given; NSET= and ELSET= of *NODE and
+*ELEMENT; a name defined again adds to its set, in whichever file), and a label or a set name
+the deck does not define is refused naming the file, the line and the set. meshio then reads
+the nodes and elements from one text without the *NSET and *ELSET blocks or *INCLUDE lines.
 """
 
 from __future__ import annotations
@@ -18,37 +21,57 @@ from pathlib import Path
 
 import numpy as np
 
+from femcore.inp_include import deck_lines
+
 __all__ = ["DeckSets", "resolve_deck_sets", "scan_deck_sets"]
 
 
 @dataclass
 class DeckSets:
-    """The sets of a deck as written, and the deck without them for meshio.
+    """The sets of a deck as written, and the deck without them for meshio. A line's place
+    is (index in ``files``, line number there): ``where`` words it.
 
     Attributes
     ----------
+    files : list[pathlib.Path]
+        The main deck, then each file it includes, in reading order.
     mesh_text : str
-        The deck without its *NSET and *ELSET blocks, for meshio to read nodes and elements.
+        The deck with its included files in place, without its *NSET and *ELSET blocks and
+        *INCLUDE lines, every *NODE block's lines gathered in the first (meshio 5.3 keeps the
+        last *NODE block alone), for meshio to read nodes and elements.
     node_labels : dict[int, int]
-        Node label -> index (the order of the *NODE block's lines, meshio's).
+        Node label -> index (the order of the *NODE blocks' lines in the deck, meshio's; a
+        label given again is the later line's node, as the deck's reading gives it).
+    node_starts : list[int]
+        The index of each *NODE block's first node (its NSET= holds its nodes).
+    node_count : int
+        The node lines of every *NODE block (meshio's points).
     element_numbers : list[list[int]]
         Per *ELEMENT block, the integers of its data lines (label, nodes, label, ...).
-    element_lines : list[list[tuple[int, int]]]
-        Per *ELEMENT block, (index of a data line's first integer, its line number).
-    sets : list[tuple[str, str, bool, int, list[tuple[int, list[str]]]]]
-        (NSET or ELSET, name, GENERATE, keyword line, [(line number, items)]) in file order.
+    element_lines : list[list[tuple[int, int, int]]]
+        Per *ELEMENT block, (index of a data line's first integer, its line number, its file).
+    sets : list[tuple[str, str, bool, tuple[int, int], list[tuple[tuple[int, int], list[str]]]]]
+        (NSET or ELSET, name, GENERATE, keyword line's place, [(place, items)]) in deck order.
     block_sets : list[tuple[str, str, int]]
-        NSET= of *NODE and ELSET= of *ELEMENT: (NSET or ELSET, name, *ELEMENT block).
+        NSET= of *NODE and ELSET= of *ELEMENT: (NSET or ELSET, name, *NODE or *ELEMENT
+        block).
     """
 
+    files: list[Path] = field(default_factory=list)
     mesh_text: str = ""
     node_labels: dict[int, int] = field(default_factory=dict)
+    node_starts: list[int] = field(default_factory=list)
+    node_count: int = 0
     element_numbers: list[list[int]] = field(default_factory=list)
-    element_lines: list[list[tuple[int, int]]] = field(default_factory=list)
-    sets: list[tuple[str, str, bool, int, list[tuple[int, list[str]]]]] = field(
-        default_factory=list
+    element_lines: list[list[tuple[int, int, int]]] = field(default_factory=list)
+    sets: list[tuple[str, str, bool, tuple[int, int], list[tuple[tuple[int, int], list[str]]]]] = (
+        field(default_factory=list)
     )
     block_sets: list[tuple[str, str, int]] = field(default_factory=list)
+
+    def where(self, place: tuple[int, int]) -> str:
+        """ "deck.inp: line 12", the file and the line of a place."""
+        return f"{self.files[place[0]]}: line {place[1]}"
 
 
 def _parameters(line: str) -> tuple[str, dict[str, str]]:
@@ -63,24 +86,42 @@ def _parameters(line: str) -> tuple[str, dict[str, str]]:
 
 
 def scan_deck_sets(path: Path) -> DeckSets:
-    """The sets of the deck at ``path`` as written (one *NODE block, no *INCLUDE: the caller
-    checks), and its text without them; UnicodeDecodeError for a file that is not UTF-8
-    text (meshio's reading names it)."""
+    """The sets of the deck at ``path`` and of the files it includes, as written, and its text
+    without them, for meshio.
+
+    Raises
+    ------
+    ValueError
+        An *INCLUDE that cannot be followed, or a file that is not text
+        (femcore.inp_include.deck_lines).
+    """
     deck = DeckSets()
+    file_ids: dict[Path, int] = {}
     keep: list[str] = []
+    node_lines: list[str] = []  # every *NODE block's, for the first block's place in ``keep``
+    node_at = -1
     mode = ""
-    text = path.read_text(encoding="utf-8")  # UnicodeDecodeError: not a text file
-    for number, line in enumerate(text.splitlines(), start=1):
+    current, file_id = None, 0
+    for file, number, line in deck_lines(path):
         if line.startswith("**"):
             continue
+        if file is not current:  # the file's index, looked up where the file changes only
+            current, file_id = file, file_ids.setdefault(file, len(file_ids))
         if line.startswith("*"):
+            at = (file_id, number)
             mode, parameters = _parameters(line)
             if mode in ("NSET", "ELSET"):
                 name = parameters.get(mode, "")
-                deck.sets.append((mode, name, "GENERATE" in parameters, number, []))
+                deck.sets.append((mode, name, "GENERATE" in parameters, at, []))
                 continue  # not for meshio
-            if mode == "NODE" and parameters.get("NSET"):
-                deck.block_sets.append(("NSET", parameters["NSET"], -1))
+            if mode == "NODE":
+                deck.node_starts.append(len(node_lines))
+                if parameters.get("NSET"):
+                    block = len(deck.node_starts) - 1
+                    deck.block_sets.append(("NSET", parameters["NSET"], block))
+                if node_at >= 0:
+                    continue  # its lines join the first block's
+                node_at = len(keep)
             if mode == "ELEMENT":
                 deck.element_numbers.append([])
                 deck.element_lines.append([])
@@ -92,14 +133,17 @@ def scan_deck_sets(path: Path) -> DeckSets:
         if mode in ("NSET", "ELSET"):
             items = [item.strip() for item in line.split(",") if item.strip()]
             if items:
-                deck.sets[-1][4].append((number, items))
+                deck.sets[-1][4].append(((file_id, number), items))
+            continue
+        if mode == "NODE":
+            if line.strip():  # meshio's point index: the count of node lines before
+                label = line.split(",", 1)[0].strip()
+                if label.lstrip("+-").isdigit():
+                    deck.node_labels[int(label)] = len(node_lines)
+                node_lines.append(line)
             continue
         keep.append(line)
-        if mode == "NODE":
-            label = line.split(",", 1)[0].strip()
-            if label.lstrip("+-").isdigit():
-                deck.node_labels[int(label)] = len(deck.node_labels)
-        elif mode == "ELEMENT":
+        if mode == "ELEMENT":
             numbers = deck.element_numbers[-1]
             before = len(numbers)
             try:
@@ -107,13 +151,16 @@ def scan_deck_sets(path: Path) -> DeckSets:
             except ValueError:
                 del numbers[before:]  # meshio says what is wrong with the line
             if len(numbers) > before:
-                deck.element_lines[-1].append((before, number))
+                deck.element_lines[-1].append((before, number, file_id))
+    deck.files = list(file_ids) or [path]
+    deck.node_count = len(node_lines)
+    keep[node_at + 1 : node_at + 1] = node_lines if node_at >= 0 else []
     deck.mesh_text = "\n".join(keep) + "\n"
     return deck
 
 
 def resolve_deck_sets(
-    deck: DeckSets, nodes_per_cell: list[int], path: Path
+    deck: DeckSets, nodes_per_cell: list[int]
 ) -> tuple[dict[str, np.ndarray], dict[str, list[np.ndarray]]]:
     """The sets of ``deck`` in meshio's numbering: (name -> node indices, name -> one array
     of local element indices per *ELEMENT block), given the nodes per element of each block
@@ -141,9 +188,10 @@ def resolve_deck_sets(
         if repeats.size:
             row = rows[repeats[0]]
             starts = deck.element_lines[block]
-            line = starts[bisect_right(starts, (int(repeats[0]) * (per_cell + 1), 1 << 62)) - 1][1]
+            first = int(repeats[0]) * (per_cell + 1)
+            _, line, file = starts[bisect_right(starts, (first, 1 << 62, 0)) - 1]
             raise ValueError(
-                f"{path}: line {line}: element {row[0]} repeats a node in "
+                f"{deck.where((file, line))}: element {row[0]} repeats a node in "
                 f"{tuple(row[1:].tolist())} (a collapsed element): write it as the "
                 "element it is (an S3 triangle for a quadrilateral with one side collapsed)"
             )
@@ -159,9 +207,11 @@ def resolve_deck_sets(
     cell_sets: dict[str, list[np.ndarray]] = {}
     # A name defined more than once (ELSET= on several *ELEMENT blocks, *NSET or *ELSET
     # repeated) is one set holding every definition's members, as Abaqus and CalculiX read it.
+    ends = [*deck.node_starts[1:], deck.node_count]
     for kind, name, block in deck.block_sets:
         if kind == "NSET":
-            point_sets[name] = np.arange(len(deck.node_labels), dtype=np.int64)
+            nodes_of_block = np.arange(deck.node_starts[block], ends[block], dtype=np.int64)
+            point_sets[name] = np.union1d(point_sets.get(name, nodes_of_block), nodes_of_block)
         else:
             before = cell_sets.get(name, [np.zeros(0, dtype=np.int64)] * len(sizes))
             cell_sets[name] = [
@@ -169,14 +219,14 @@ def resolve_deck_sets(
                 for index, size in enumerate(sizes)
             ]
     for kind, name, generate, at, data in deck.sets:
-        what = f"{path}: line {at}: *{kind} {name!r}"
+        what = f"{deck.where(at)}: *{kind} {name!r}"
         if not name:
             raise ValueError(f"{what}: no {kind}= name")
         labels: list[int] = []
         members: list[str] = []
-        for number, items in data:
+        for place, items in data:
             if generate:
-                labels.extend(_generated(items, f"{path}: line {number}: *{kind} {name!r}"))
+                labels.extend(_generated(items, f"{deck.where(place)}: *{kind} {name!r}"))
                 continue
             for item in items:
                 if item.lstrip("+-").isdigit():

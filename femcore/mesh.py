@@ -661,7 +661,9 @@ class Mesh(ReadOnlyState):
         split in two triangles each as :meth:`from_quads` does (fibre-aligned when their
         sides follow the fibres), their sets and cell data following them. Named sets come
         back from Abaqus NSET/ELSET (.inp, read by Abaqus's rules: NSET= of *NODE and ELSET=
-        of *ELEMENT lines, sets made of other sets, GENERATE lines), from the
+        of *ELEMENT lines, sets made of other sets, GENERATE lines, the nodes of several
+        *NODE blocks; the files of *INCLUDE lines read in place, nested, a relative INPUT=
+        from the main deck's folder at every depth: femcore.inp_include), from the
         "nset:/elset:/lset:" mask arrays that :meth:`write` stores in other formats, and
         from named gmsh physical groups: every group is the node set of its cells' nodes (a
         physical curve "clamp" holds the nodes of its lines), and a group of dimension d is
@@ -687,7 +689,8 @@ class Mesh(ReadOnlyState):
         ------
         ValueError
             A missing file or a directory, unknown format, unreadable file, other cell
-            types, no cell of a known kind, an Abaqus deck with several *NODE blocks, an
+            types, no cell of a known kind, an Abaqus deck's *INCLUDE file missing or
+            including itself again (naming the including file and line), an
             assembly of several *INSTANCE entries or a moved one, a set naming a set, a
             node or an element the deck does not define, a GENERATE line that is not
             ``first, last[, increment]``, an element repeating a node (each naming the file

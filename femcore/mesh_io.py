@@ -47,14 +47,9 @@ def read_mesh(path: str | Path, file_format: str | None = None) -> Mesh:
     deck = _checked_deck(path) if fmt == "abaqus" else DeckScan()
     if fmt == "gmsh":
         _check_physical_names(path)
-    # The sets of a deck without *INCLUDE are read here by Abaqus's rules (femcore.inp_sets),
-    # meshio reading its nodes and elements only.
-    own_sets = None
-    if fmt == "abaqus" and not deck.includes:
-        try:
-            own_sets = scan_deck_sets(path)
-        except UnicodeDecodeError:
-            pass  # not a text file: meshio's reading below says so
+    # A deck's sets are read here by Abaqus's rules, its *INCLUDE files in place
+    # (femcore.inp_sets, femcore.inp_include), meshio reading its nodes and elements only.
+    own_sets = scan_deck_sets(path) if fmt == "abaqus" else None
     try:
         if own_sets is None:
             raw = meshio.read(path, file_format=fmt)
@@ -84,12 +79,10 @@ def read_mesh(path: str | Path, file_format: str | None = None) -> Mesh:
         raise ValueError(
             f"cannot read {path} as {fmt!r}: {type(err).__name__}: {err}{hint}"
         ) from err
-    if own_sets is not None and len(raw.cells) == len(own_sets.element_numbers):
+    if own_sets is not None:  # meshio reads one block per *ELEMENT, as the scan does
         raw.point_sets, raw.cell_sets = resolve_deck_sets(
-            own_sets, [block.data.shape[1] for block in raw.cells], path
+            own_sets, [block.data.shape[1] for block in raw.cells]
         )
-    elif fmt == "abaqus":
-        raw = _abaqus_element_sets(raw, deck)
     # Quads become two triangles each; the rest one cell each (vertex cells are dropped).
     n_cells = sum(len(block.data) * (2 if block.type == "quad" else 1) for block in raw.cells)
     check_mesh_memory(n_cells, len(raw.points), f"the mesh of {path}")
@@ -106,16 +99,11 @@ def read_mesh(path: str | Path, file_format: str | None = None) -> Mesh:
 
 
 def _checked_deck(path: Path) -> DeckScan:
-    """The keyword scan of an Abaqus deck, or ValueError for a deck meshio would read wrong
-    (several *NODE blocks)."""
+    """The keyword scan of an Abaqus deck (its included files in place), or ValueError for an
+    assembly the reader cannot place (several instances, or a moved one)."""
     deck = scan_deck(path)
-    if deck.node_blocks > 1:
-        raise ValueError(
-            f"{path} has {deck.node_blocks} *NODE blocks; the .inp reader (meshio) keeps only "
-            "the last one: gather the nodes in one *NODE block"
-        )
     if len(deck.instances) > 1:
-        listed = ", ".join(f"{name!r} (line {line})" for line, name, _ in deck.instances)
+        listed = ", ".join(f"{name!r} ({line})" for line, name, _ in deck.instances)
         raise ValueError(
             f"{path} has {len(deck.instances)} *INSTANCE entries, {listed}; the .inp reader "
             "reads each part's mesh once, at the part's own coordinates, and the sets of "
@@ -130,47 +118,12 @@ def _checked_deck(path: Path) -> DeckScan:
         )
         if moved:
             raise ValueError(
-                f"{path}: *INSTANCE {name!r} (line {line}) is moved or rotated, by "
+                f"{path}: *INSTANCE {name!r} ({line}) is moved or rotated, by "
                 f"{'; '.join(', '.join(f'{v:g}' for v in m) for m in moves)}; the .inp reader "
                 "reads the part's mesh at its own coordinates: write the mesh where it stands "
                 "(no *PART), or the instance unmoved"
             )
     return deck
-
-
-def _abaqus_element_sets(raw: meshio.Mesh, deck: DeckScan) -> meshio.Mesh:
-    """``raw`` with the element sets named on *ELEMENT lines (ELSET=) holding every element
-    of their blocks (meshio 5.3 gives the i-th such set to the i-th block, whichever block
-    named it), and the sets made of other sets joining them (meshio reads the first name of
-    each line of an *ELSET of sets into a wrong shape, and an *NSET of sets as empty)."""
-    if deck.includes or len(deck.element_sets) != len(raw.cells):
-        return raw  # blocks from included files: the scan cannot tell which is which
-    cell_sets = dict(raw.cell_sets)
-    for name in {n for n in deck.element_sets if n is not None}:
-        cell_sets[name] = [
-            np.arange(len(block.data) if owner == name else 0, dtype=np.int64)
-            for block, owner in zip(raw.cells, deck.element_sets, strict=True)
-        ]
-    point_sets = dict(raw.point_sets)
-    # Sets of sets, in file order (a set may join sets defined before it).
-    for keyword, name, members in deck.set_unions:
-        store = point_sets if keyword == "NSET" else cell_sets
-        unknown = [member for member in members if member not in store]
-        if unknown:
-            raise ValueError(
-                f"*{keyword} {name!r} joins the sets {unknown}, which the deck does not define "
-                f"before it (known: {sorted(store)})"
-            )
-        if keyword == "NSET":
-            point_sets[name] = sorted_unique(np.concatenate([point_sets[m] for m in members]))
-        else:
-            cell_sets[name] = [
-                sorted_unique(np.concatenate(per_block))
-                for per_block in zip(*(cell_sets[m] for m in members), strict=True)
-            ]
-    raw.point_sets = point_sets
-    raw.cell_sets = cell_sets
-    return raw
 
 
 def write_mesh(mesh: Mesh, path: str | Path, file_format: str | None = None) -> None:
@@ -326,8 +279,8 @@ def _clean_cell_sets(raw: meshio.Mesh, source: str) -> dict[str, list[np.ndarray
     """meshio's cell sets as one int64 array of local cell ids per block (None: empty; an
     Abaqus *ELSET with no element, which meshio reads as no block at all: empty in each), the
     gmsh bookkeeping ("gmsh:bounding_entities") left out; ValueError for a set whose shape
-    does not follow the blocks (meshio 5.3 builds such a set from an Abaqus *ELSET made of
-    other sets, which read_mesh rebuilds unless the deck has *INCLUDE files)."""
+    does not follow the blocks (a file meshio reads wrong: an Abaqus deck's sets are read by
+    femcore.inp_sets instead)."""
     empty = np.zeros(0, dtype=np.int64)
     out = {}
     for name, per_block in raw.cell_sets.items():
@@ -343,8 +296,7 @@ def _clean_cell_sets(raw: meshio.Mesh, source: str) -> dict[str, list[np.ndarray
         if len(ids) != len(raw.cells) or any(b.ndim != 1 for b in ids):
             raise ValueError(
                 f"{source}: cell set {name!r} cannot be read (meshio does not list its cells "
-                "block by block, as for an *ELSET of other sets in an *INCLUDE file): list its "
-                "elements"
+                "block by block): list its elements"
             )
         out[name] = ids
     return out

@@ -3,9 +3,12 @@
 Two runs writing into one folder damage each other without a word: the second's cleaning
 (fibreshell.outputs.clean_run) removes the first's frames while its ``result.pvd`` still
 lists them, the second resumes from the first's checkpoint or appends to its
-``energies.csv``, and both exit 0. So ``run_case``, ``compare_case``, ``sweep`` and
-``identify`` hold the lock of the folder they write (``folder_lock``) from before they touch
-it until they return, and a second command there is refused at once, naming the first.
+``energies.csv``, and both exit 0. So ``run_case``, ``compare_case``, ``sweep``,
+``identify``, ``run_plies`` and the validation report (``validation.report.run_cases``) hold
+the lock of the folder they write (``folder_lock``) from before they touch it until they
+return, and a second command there is refused at once, naming the first. A run holds its
+checkpoint file too (``folder_lock(..., file=name)``: the lock ``fibreshell.lock.<name>``
+beside it), which ``[solver] checkpoint`` may put outside its output folder.
 
 The lock is a file created with ``O_CREAT | O_EXCL`` (atomic on every local file system and
 on NFS v3 and later), holding the holder's pid, host, start time and command as JSON. It is
@@ -16,7 +19,11 @@ process it names has ended (or its pid now belongs to a process started at anoth
 read from ``/proc`` where there is one). A lock of another host, or on a system where
 whether a process lives cannot be asked without harming it (Windows: ``os.kill`` there ends
 the process), is never taken over: the message says which file to delete once no such run
-is going."""
+is going. The record is written before the lock file appears (linked into place: ``_create``);
+a lock file found empty or partly written all the same (a file system without hard links, a
+command killed by an earlier version between creating its lock and writing it) is held until
+it is EMPTY_LOCK_AGE_S old, then taken over; a command whose record cannot be written (a full
+disk) leaves no lock and raises OutputError."""
 
 from __future__ import annotations
 
@@ -31,6 +38,8 @@ from collections.abc import Iterator
 from contextlib import contextmanager
 from pathlib import Path
 from typing import Any
+
+from femcore.writable import OutputError
 
 __all__ = ["LOCK_FILE", "FolderInUse", "folder_lock", "holder"]
 
@@ -79,8 +88,16 @@ def _alive(record: dict[str, Any]) -> bool | None:
 def holder(folder: Path) -> dict[str, Any] | None:
     """The record of the lock in ``folder`` (pid, host, started, command), or None when the
     folder is not locked; a lock file that cannot be read as one is ``{"unreadable": text}``."""
+    return _read(Path(folder) / LOCK_FILE)
+
+
+def _read(lock: Path) -> dict[str, Any] | None:
+    """The record of the lock file ``lock``, None when there is none, ``{"unreadable": text}``
+    when it cannot be read as one, with ``"unwritten": True`` when it is empty or the start
+    of a record (a command writing it this instant, or killed as it did): bytes that are not
+    text read as such too, never an error."""
     try:
-        text = (Path(folder) / LOCK_FILE).read_text()
+        text = lock.read_bytes().decode("utf-8", errors="replace")
     except FileNotFoundError:
         return None
     except OSError as error:
@@ -88,18 +105,23 @@ def holder(folder: Path) -> dict[str, Any] | None:
     try:
         record = json.loads(text)
     except ValueError:
-        return {"unreadable": text[:200]}
-    return record if isinstance(record, dict) else {"unreadable": text[:200]}
+        record = None
+    if isinstance(record, dict):
+        return record
+    unwritten = record is None and (not text.strip() or text.lstrip().startswith("{"))
+    return {"unreadable": text[:200], **({"unwritten": True} if unwritten else {})}
 
 
-#: s after which an empty lock file is a command's that was killed between creating it and
-#: writing its record (a command writes it at once).
+#: s after which a lock file without its whole record is a command's that was killed (or
+#: failed to write, the disk full) between creating it and writing its record: a command
+#: writes it at once, so a younger one is a command taking the folder this instant.
 EMPTY_LOCK_AGE_S = 10.0
 
 
-def _left_empty(lock: Path, record: dict[str, Any]) -> bool:
-    """Whether ``lock`` (read as ``record``) is empty and older than EMPTY_LOCK_AGE_S."""
-    if record.get("unreadable", None) is None or str(record["unreadable"]).strip():
+def _left_unwritten(lock: Path, record: dict[str, Any]) -> bool:
+    """Whether ``lock`` (read as ``record``) is empty or partly written and older than
+    EMPTY_LOCK_AGE_S."""
+    if not record.get("unwritten"):
         return False
     try:
         return time.time() - lock.stat().st_mtime > EMPTY_LOCK_AGE_S
@@ -108,6 +130,12 @@ def _left_empty(lock: Path, record: dict[str, Any]) -> bool:
 
 
 def _describe(record: dict[str, Any]) -> str:
+    if record.get("unwritten"):
+        return (
+            f"a command taking it this instant (its lock file cannot be read yet: "
+            f"{record['unreadable']!r}; one left so by a killed command is taken over "
+            f"{EMPTY_LOCK_AGE_S:g} s after it was created)"
+        )
     if "unreadable" in record:
         return f"a lock file that cannot be read ({record['unreadable']!r})"
     return (
@@ -117,12 +145,21 @@ def _describe(record: dict[str, Any]) -> str:
     )
 
 
-def _refusal(folder: Path, record: dict[str, Any], what: str) -> FolderInUse:
-    lock = folder / LOCK_FILE
+def _guarded(lock: Path) -> Path:
+    """What the lock file ``lock`` guards: its folder (``fibreshell.lock``), or the file of
+    that folder its name ends with (``fibreshell.lock.checkpoint.pkl``: ``checkpoint.pkl``)."""
+    if lock.name == LOCK_FILE:
+        return lock.parent
+    return lock.with_name(lock.name[len(LOCK_FILE) + 1 :])
+
+
+def _refusal(lock: Path, record: dict[str, Any], what: str) -> FolderInUse:
+    other = "output folder" if lock.name == LOCK_FILE else "file name"
     return FolderInUse(
-        f"{what} {str(folder)!r} is in use by {_describe(record)}: two commands writing "
-        "into one folder remove and mix each other's files; wait for it to end or give "
-        f"another output folder (if no such command is running any more, delete {str(lock)!r})"
+        f"{what} {str(_guarded(lock))!r} is in use by {_describe(record)}: two commands "
+        "writing into one folder or one file remove and mix each other's files; wait for it "
+        f"to end or give another {other} (if no such command is running any more, delete "
+        f"{str(lock)!r})"
     )
 
 
@@ -135,14 +172,7 @@ def _take_over(lock: Path, stale: dict[str, Any]) -> bool:
         os.rename(lock, aside)
     except FileNotFoundError:  # another command took it over first: try to create it again
         return True
-    try:
-        text = aside.read_text()
-    except OSError:
-        text = None
-    try:
-        moved = None if text is None else json.loads(text)
-    except ValueError:  # read as ``holder`` reads it
-        moved = {"unreadable": text[:200]} if text is not None else None
+    moved = _read(aside)  # read as the stale one was
     if moved != stale:  # not the stale lock any more: another's, put back
         os.rename(aside, lock)
         return False
@@ -150,9 +180,48 @@ def _take_over(lock: Path, stale: dict[str, Any]) -> bool:
     return True
 
 
+def _write_new(path: Path, text: str) -> None:
+    """Create the file ``path`` (FileExistsError if it exists) holding ``text``; removed
+    again, and OutputError raised, when ``text`` cannot be written (a full disk)."""
+    descriptor = os.open(path, os.O_CREAT | os.O_EXCL | os.O_WRONLY, 0o644)
+    try:
+        with os.fdopen(descriptor, "w") as handle:
+            handle.write(text)
+    except OSError as error:
+        path.unlink(missing_ok=True)
+        raise OutputError.from_error(error, "nothing (the lock was not taken)") from None
+
+
+def _create(lock: Path, text: str) -> bool:
+    """Create the lock file ``lock`` holding ``text``; False when it exists.
+
+    The record is written to a file of its own first, then linked as ``lock`` (``link``
+    fails when the name exists: atomic on local file systems and on NFS), so that a reader
+    never finds the lock without its whole record. Where hard links are not to be had (FAT,
+    some network shares) the lock is created, then written: a reader may then find it empty
+    for an instant, which it takes as held (``_read``: "unwritten")."""
+    staged = lock.with_name(f"{lock.name}.new-{os.getpid()}-{uuid.uuid4().hex[:8]}")
+    _write_new(staged, text)
+    try:
+        os.link(staged, lock)
+    except FileExistsError:
+        return False
+    except OSError:  # no hard links here
+        try:
+            _write_new(lock, text)
+        except FileExistsError:
+            return False
+    finally:
+        staged.unlink(missing_ok=True)
+    return True
+
+
 @contextmanager
-def folder_lock(folder: Path, task: str, what: str = "the output folder") -> Iterator[Path]:
-    """Hold the lock of the existing folder ``folder`` for the ``with`` block.
+def folder_lock(
+    folder: Path, task: str, what: str = "the output folder", file: str | None = None
+) -> Iterator[Path]:
+    """Hold the lock of the existing folder ``folder`` (or of the file ``file`` in it) for
+    the ``with`` block.
 
     Parameters
     ----------
@@ -162,7 +231,12 @@ def folder_lock(folder: Path, task: str, what: str = "the output folder") -> Ite
         What holds it ("the run of cases/a.toml"), in the lock and in the message of a
         command refused there, beside this process's command line.
     what : str
-        The folder's name in messages ("the output folder", "--out").
+        The folder's (or the file's) name in messages ("the output folder", "--out", "the
+        checkpoint").
+    file : str, optional
+        Lock this file of ``folder`` alone (a checkpoint a run may write outside its output
+        folder), by the lock file ``fibreshell.lock.<file>`` beside it; by default the
+        folder, by ``fibreshell.lock``.
 
     Yields
     ------
@@ -176,7 +250,7 @@ def folder_lock(folder: Path, task: str, what: str = "the output folder") -> Ite
         that cannot be read): the message names it and the lock file.
     """
     folder = Path(folder)
-    lock = folder / LOCK_FILE
+    lock = folder / (LOCK_FILE if file is None else f"{LOCK_FILE}.{file}")
     record = {
         "pid": os.getpid(),
         "host": socket.gethostname(),
@@ -186,24 +260,24 @@ def folder_lock(folder: Path, task: str, what: str = "the output folder") -> Ite
         "process_start": _process_start(os.getpid()),
         "token": uuid.uuid4().hex,
     }
+    text = json.dumps(record, indent=1) + "\n"
     for _ in range(3):  # a stale lock taken over, then created: a race lost twice is refused
-        try:
-            descriptor = os.open(lock, os.O_CREAT | os.O_EXCL | os.O_WRONLY, 0o644)
-        except FileExistsError:
-            other = holder(folder)
+        if not _create(lock, text):
+            other = _read(lock)
             if other is None:  # released meanwhile
                 continue
-            if _left_empty(lock, other):
+            if _left_unwritten(lock, other):
                 if _take_over(lock, other):
                     warnings.warn(
-                        f"{str(lock)!r} was left empty more than {EMPTY_LOCK_AGE_S:g} s ago "
-                        f"(a command killed as it took the folder); taken over by {task}",
+                        f"{str(lock)!r} was left empty or partly written more than "
+                        f"{EMPTY_LOCK_AGE_S:g} s ago (a command killed as it took the folder, "
+                        f"or its disk full); taken over by {task}",
                         UserWarning,
                         stacklevel=3,
                     )
                 continue
             if "unreadable" in other or _alive(other) is not False:
-                raise _refusal(folder, other, what) from None
+                raise _refusal(lock, other, what) from None
             if _take_over(lock, other):
                 warnings.warn(
                     f"{str(lock)!r} was left by {_describe(other)}, which has ended (killed?); "
@@ -212,14 +286,12 @@ def folder_lock(folder: Path, task: str, what: str = "the output folder") -> Ite
                     stacklevel=3,
                 )
             continue
-        with os.fdopen(descriptor, "w") as handle:
-            handle.write(json.dumps(record, indent=1) + "\n")
         break
     else:
-        raise _refusal(folder, holder(folder) or {"unreadable": "(gone)"}, what)
+        raise _refusal(lock, _read(lock) or {"unreadable": "(gone)"}, what)
     try:
         yield lock
     finally:
         # Only our own lock: a user who deleted it and started another command keeps theirs.
-        if (holder(folder) or {}).get("token") == record["token"]:
+        if (_read(lock) or {}).get("token") == record["token"]:
             lock.unlink(missing_ok=True)

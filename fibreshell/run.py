@@ -7,8 +7,10 @@ from __future__ import annotations
 import csv
 import json
 import math
+import os
 import time
 import warnings
+from contextlib import AbstractContextManager, nullcontext
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -159,9 +161,24 @@ def run_case(
     frames_written = write_frames or kind == "explicit"
     needed = FIRST_FRAMES * frame_bytes(mesh) if frames_written else 0
     check_folder(out, "output folder", needed=needed)
-    with folder_lock(out, f"the run of {str(case.path)!r}"):
+    task = f"the run of {str(case.path)!r}"
+    with folder_lock(out, task), _checkpoint_lock(case, out, task):
         return _run_locked(case, out, kinematics, progress, calibration, shear_ratio,
                            bending_scale, transverse_shear, resume, write_frames)  # fmt: skip
+
+
+def _checkpoint_lock(case: Case, out: Path, task: str) -> AbstractContextManager[Any]:
+    """The lock of the run's checkpoint file (``fibreshell.lock.<name>`` beside it), wherever
+    ``[solver] checkpoint`` puts it: in ``out``, a subfolder, or outside it (``../ck.pkl``, an
+    absolute path), where the lock of ``out`` does not reach. Two runs naming one checkpoint
+    file from different output folders would remove (clean_run) and resume from each other's;
+    the second is refused (fibreshell.folder_lock.FolderInUse), naming the first."""
+    named = case.solver.get("checkpoint")
+    if named is None:
+        return nullcontext()
+    checkpoint = Path(os.path.normpath(out / named))  # "b/../shared.pkl": "shared.pkl"
+    folder = check_folder(checkpoint.parent, "the checkpoint's folder")
+    return folder_lock(folder, task, "the checkpoint", file=checkpoint.name)
 
 
 def _run_locked(case, out, kinematics, progress, calibration, shear_ratio, bending_scale,

@@ -265,3 +265,189 @@ def test_a_checkpoint_may_not_be_named_as_the_lock(tmp_path):
     text = text.replace("[output]", f'checkpoint = "{LOCK_FILE}"\n[output]')
     with pytest.raises(CaseError, match="lock"):
         load_case(case_file(tmp_path, text))
+
+
+# ------------------------------------------------------------------ a lock being written
+def test_the_lock_file_appears_with_its_whole_record(tmp_path, monkeypatch):
+    """Linked into place once written: a reader never finds it empty (it was created, then
+    written, and a reader in between found an empty file)."""
+    import fibreshell.folder_lock as folder_lock_module
+
+    out = tmp_path / "out"
+    out.mkdir()
+    seen = []
+    real_link = os.link
+
+    def link(source, target):
+        seen.append(json.loads(Path(source).read_text())["task"])
+        return real_link(source, target)
+
+    monkeypatch.setattr(folder_lock_module.os, "link", link)
+    with folder_lock(out, "the run of 'b.toml'") as lock:
+        assert seen == ["the run of 'b.toml'"] and holder(out)["task"] == seen[0]
+        assert sorted(p.name for p in out.iterdir()) == [lock.name]  # the staged file gone
+
+
+def test_without_hard_links_the_lock_is_created_then_written(tmp_path, monkeypatch):
+    import errno
+
+    import fibreshell.folder_lock as folder_lock_module
+
+    def no_link(source, target):
+        raise OSError(errno.EPERM, "Operation not permitted")
+
+    out = tmp_path / "out"
+    out.mkdir()
+    monkeypatch.setattr(folder_lock_module.os, "link", no_link)
+    with folder_lock(out, "the run of 'a.toml'"):
+        assert holder(out)["task"] == "the run of 'a.toml'"
+        with pytest.raises(FolderInUse, match="in use by the run of 'a.toml'"):
+            with folder_lock(out, "the run of 'b.toml'"):
+                pass
+    assert list(out.iterdir()) == []
+
+
+@pytest.mark.parametrize("text", ["", '{\n "pid": 12'], ids=["empty", "partial"])
+def test_a_lock_younger_than_its_age_limit_without_its_whole_record_is_held(tmp_path, text):
+    """The window between the lock's O_CREAT and the write of its record (a file system
+    without hard links, where the lock is created, then written): a command taking the folder
+    this instant, refused as it is."""
+    out = tmp_path / "out"
+    out.mkdir()
+    (out / LOCK_FILE).write_text(text)
+    with pytest.raises(FolderInUse, match="a command taking it this instant"):
+        with folder_lock(out, "the run of 'b.toml'"):
+            pass
+    assert (out / LOCK_FILE).read_text() == text
+
+
+def test_a_partly_written_lock_older_than_its_age_limit_is_taken_over(tmp_path):
+    """A command killed (or its disk full) in the middle of its record: refused forever, as an
+    empty one was before it was taken over."""
+    out = tmp_path / "out"
+    out.mkdir()
+    lock = out / LOCK_FILE
+    lock.write_text('{\n "pid": 12')
+    old = time.time() - 2 * EMPTY_LOCK_AGE_S
+    os.utime(lock, (old, old))
+    with pytest.warns(UserWarning, match="partly written .* taken over by the run of 'b.toml'"):
+        with folder_lock(out, "the run of 'b.toml'"):
+            assert json.loads(lock.read_text())["task"] == "the run of 'b.toml'"
+    assert not lock.exists()
+
+
+def test_a_lock_of_bytes_that_are_not_text_is_refused_not_a_crash(tmp_path):
+    out = tmp_path / "out"
+    out.mkdir()
+    (out / LOCK_FILE).write_bytes(b"\xff\xfe\x00garbage")  # was UnicodeDecodeError
+    with pytest.raises(FolderInUse, match="a lock file that cannot be read"):
+        with folder_lock(out, "the run of 'b.toml'"):
+            pass
+
+
+def test_a_lock_whose_record_cannot_be_written_is_not_left_behind(tmp_path, monkeypatch):
+    """A full disk as the record is written: the empty lock stayed, refusing every command
+    for 10 s, and the error was a bare OSError. Neither the lock nor its staged record stays."""
+    import errno
+
+    import fibreshell.folder_lock as folder_lock_module
+    from femcore.writable import OutputError
+
+    class Full:
+        def __init__(self, descriptor, mode):
+            os.close(descriptor)
+
+        def __enter__(self):
+            return self
+
+        def __exit__(self, *exc):
+            return False
+
+        def write(self, text):
+            raise OSError(errno.ENOSPC, "No space left on device", str(out / LOCK_FILE))
+
+    out = tmp_path / "out"
+    out.mkdir()
+    monkeypatch.setattr(folder_lock_module.os, "fdopen", Full)
+    with pytest.raises(OutputError, match="No space left on device"):
+        with folder_lock(out, "the run of 'b.toml'"):
+            pass
+    assert list(out.iterdir()) == []
+
+
+# ------------------------------------------------------------------ a checkpoint elsewhere
+@pytest.mark.parametrize(
+    "first, second",
+    [("../shared.pkl", "../shared.pkl"), ("checkpoint.pkl", "../a/checkpoint.pkl")],
+    ids=["outside both folders", "in the first's folder"],
+)
+def test_two_runs_naming_one_checkpoint_file_from_two_folders_refuse_each_other(
+    tmp_path, first, second
+):
+    """The lock of the output folder did not reach a checkpoint outside it: the second run
+    removed the first's checkpoint (its clean_run) and wrote its own over it."""
+    import fibreshell.run as run_module
+
+    relaxation = STATIC.replace('kind = "static"', 'kind = "relaxation"')
+
+    def case(name: str, checkpoint: str):
+        path = tmp_path / name
+        path.write_text(relaxation.replace("[output]", f'checkpoint = "{checkpoint}"\n[output]'))
+        return load_case(path)
+
+    refused = []
+
+    def while_the_first_runs(*args):  # the first's run, stood in for: the second starts
+        if not refused:
+            refused.append(None)
+            try:
+                run_case(case("second.toml", second), tmp_path / "b", progress=False)
+            except FolderInUse as error:
+                refused.append(str(error))
+
+    real = run_module._run_locked
+    run_module._run_locked = while_the_first_runs
+    try:
+        run_case(case("first.toml", first), tmp_path / "a", progress=False)
+    finally:
+        run_module._run_locked = real
+    checkpoint = Path(os.path.normpath(tmp_path / "b" / second))
+    assert len(refused) == 2, "the second run was not refused"
+    assert f"the checkpoint {str(checkpoint)!r} is in use by the run of" in refused[1]
+    assert "first.toml" in refused[1] and not (tmp_path / "b" / "summary.json").exists()
+    assert [p.name for p in checkpoint.parent.iterdir() if "lock" in p.name] == []
+
+
+# ------------------------------------------------------------------ the validation report
+@pytest.mark.parametrize("command", ["python -m validation", "fibreshell report"])
+def test_a_report_into_a_folder_another_process_writes_in_is_refused_before_any_case_runs(
+    tmp_path, other_process, capsys, monkeypatch, command
+):
+    """Two reports into one folder replaced each other's figures and results.json."""
+    import validation.__main__ as report_main
+    import validation.report as report_module
+    from validation.cases import CASES
+
+    ran = []
+    monkeypatch.setattr(report_module, "_run_all", lambda *args: ran.append(args) or {})
+    out = tmp_path / "report"
+    other_process(out)
+    argv = ["--cases", next(iter(CASES)), "--out", str(out), "--jobs", "1"]
+    status = (
+        report_main.main(argv) if command == "python -m validation" else main(["report", *argv])
+    )
+    said = capsys.readouterr().err
+    assert status == 2 and not ran and not (out / "results.json").exists()
+    assert "is in use by the run of 'first.toml'" in said and said.count("\n") == 1
+
+
+def test_a_report_holds_its_folder_while_its_cases_run(tmp_path, monkeypatch):
+    import validation.report as report_module
+    from validation.cases import CASES
+
+    out = tmp_path / "report"
+    seen = []
+    monkeypatch.setattr(report_module, "_run_all", lambda *args: seen.append(holder(out)) or {})
+    report_module.run_cases([next(iter(CASES))], "coarse", out, echo=lambda *a, **k: None)
+    assert seen[0]["pid"] == os.getpid() and "validation report" in seen[0]["task"]
+    assert not (out / LOCK_FILE).exists()

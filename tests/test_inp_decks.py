@@ -189,3 +189,12 @@ def test_an_elset_keyword_adds_to_the_set_an_element_block_named(tmp_path):
     )
     mesh = Mesh.read(deck(tmp_path, text))
     assert sorted(mesh.element_sets["PLATE"].tolist()) == [0, 1, 2, 3]
+
+
+def test_a_set_names_the_node_its_label_defines_after_a_label_given_twice(tmp_path):
+    """Node 2 given twice (the later line's coordinates are node 2's, as meshio reads them):
+    the set of node 5 held the point of the line before it, the index of every node after the
+    repeat one short."""
+    text = NODES.replace(" 3, 10., 10., 0.\n", " 2, 10., 0., 0.\n 3, 10., 10., 0.\n")
+    mesh = Mesh.read(deck(tmp_path, text + TRIANGLES + "*Nset, nset=five\n 5\n"))
+    assert mesh.points[mesh.nodes("five")].tolist() == [[20.0, 0.0, 0.0]]

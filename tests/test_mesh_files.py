@@ -243,15 +243,20 @@ def test_a_deck_of_mesh_keywords_only_reads_without_a_warning(tmp_path):
         assert Mesh.read(path).n_triangles == 4
 
 
-def test_a_deck_with_two_node_blocks_is_refused_naming_them(tmp_path):
+def test_a_deck_with_two_node_blocks_keeps_the_nodes_of_both(tmp_path):
+    """Abaqus reads every *NODE block; meshio 5.3 keeps the last alone (the deck was refused,
+    and with its nodes in an *INCLUDE file of their own it could not be written otherwise)."""
     path = tmp_path / "two_node_blocks.inp"
     path.write_text(
-        f"*NODE\n{_nodes_text(STRIP_POINTS[:5])}\n"
-        "*NODE\n" + _nodes_text(STRIP_POINTS).split("\n", 5)[5] + "\n"
+        f"*NODE, NSET=LOW\n{_nodes_text(STRIP_POINTS[:5])}\n"
         f"*ELEMENT, TYPE=S4R\n{_elements_text(RIGHT_QUADS, 1)}\n"
+        "*NODE, NSET=HIGH\n" + _nodes_text(STRIP_POINTS).split("\n", 5)[5] + "\n"
     )
-    with pytest.raises(ValueError, match=r"2 \*NODE blocks"):
-        Mesh.read(path)
+    mesh = Mesh.read(path)
+    np.testing.assert_array_equal(mesh.points, STRIP_POINTS)
+    np.testing.assert_array_equal(mesh.nodes("LOW"), [0, 1, 2, 3, 4])
+    np.testing.assert_array_equal(mesh.nodes("HIGH"), [5, 6, 7, 8, 9])
+    assert mesh.n_triangles == 2 * len(RIGHT_QUADS)
 
 
 def test_abaqus_sets_made_of_other_sets_join_their_members(tmp_path):

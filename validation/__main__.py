@@ -8,6 +8,7 @@ import time
 from pathlib import Path
 
 from femcore.writable import check_folder
+from fibreshell.folder_lock import FolderInUse
 from validation.cases import CASES, RESOLUTIONS
 from validation.report import default_jobs, run_cases
 
@@ -70,8 +71,9 @@ def parse(argv: list[str], prog: str = "python -m validation") -> argparse.Names
 
 def main(argv: list[str] | None = None, prog: str = "python -m validation") -> int:
     """Run the command line (``prog``: the command's name in messages); 0 when every check
-    passed and no case raised, 1 when not, 3 when the report could not be written (one line on
-    stderr names the file and what was kept)."""
+    passed and no case raised, 1 when not, 2 when ``--out`` is held by another command (one
+    line on stderr names it; nothing ran), 3 when the report could not be written (one line
+    on stderr names the file and what was kept)."""
     args = parse(sys.argv[1:] if argv is None else argv, prog)
     if args.list:
         for name, case in CASES.items():
@@ -81,6 +83,9 @@ def main(argv: list[str] | None = None, prog: str = "python -m validation") -> i
     out = Path(args.out)
     try:
         report = run_cases(args.cases, args.resolution, out, jobs=args.jobs)
+    except FolderInUse as error:  # another report or run writes there: nothing was touched
+        print(f"{prog}: error: {error}", file=sys.stderr)
+        return 2
     except OSError as error:  # a full or read-only disk under the report
         written = sorted(p.name for p in out.iterdir()) if out.is_dir() else []
         kept = f"{len(written)} file(s) in {str(out)!r}" if written else "nothing"

@@ -40,6 +40,7 @@ import numba
 import numpy as np
 
 from femcore.jit import free_cores
+from fibreshell.folder_lock import folder_lock
 from validation.cases import CASES
 from validation.records import Case, CaseResult, Figure, Outcome, Report
 from validation.report_html import INTRODUCTION, STYLE, render_html
@@ -545,9 +546,21 @@ def run_cases(
     ValueError
         A name that is not a case, a name given twice, or a case in parts with no part at
         ``resolution``.
+    fibreshell.FolderInUse
+        ``out_dir`` is held by another command (another report, a run: the message names
+        it), before any case runs; the report holds it until it returns.
     """
     _check_names(names, resolution)
     out_dir.mkdir(parents=True, exist_ok=True)
+    # One report at a time in a folder: two would replace each other's figures and files.
+    with folder_lock(out_dir, f"the validation report into {str(out_dir)!r}", "--out"):
+        return _run_cases_locked(names, resolution, out_dir, echo, jobs)
+
+
+def _run_cases_locked(
+    names: list[str], resolution: str, out_dir: Path, echo: Callable[..., Any], jobs: int
+) -> Report:
+    """``run_cases`` in its folder ``out_dir``, which it holds (fibreshell.folder_lock)."""
     # before this report replaces them
     measured = measured_costs(out_dir, names, resolution)
     measured_parts = measured_part_costs(out_dir, names, resolution)
