@@ -27,7 +27,7 @@ FABRICS = {
         shear=ShearLaw.polynomial(0.3, 2.0, 5.0),
         bending=BendingLaw.bilinear(7.5, 0.5, knee=1e-3),
         bending_weft=BendingLaw.table(
-            [-0.02, -0.001, 0.0, 0.002, 0.03], [-0.3, -0.01, 0.0, 0.004, 0.2]
+            [-0.03, -0.002, 0.0, 0.002, 0.03], [-0.2, -0.004, 0.0, 0.004, 0.2]
         ),
     ),
 }
