@@ -13,7 +13,8 @@ rows, they give the quantities the fabric's laws take, the same ones the fibrous
 laws: the log fibre strains eps = log(lambda) with lambda^2 = 1 + 2 E_aa, the shear angle
 gamma = asin(2 E_ab / (lambda_a lambda_b)) (pi/2 less the warp-weft angle, Bai Fig. 4, between
 fibres that start orthogonal),
-the curvatures chi_aa = K_aa / (h/2), chi_bb, and the engineering twist 2 chi_ab. The strain
+the curvatures of the deformed fibres chi_aa = K_aa / ((h/2) lambda_a^2), chi_bb, and the
+engineering twist 2 chi_ab = 2 K_ab / (h/2). The strain
 energy of the cell is
 
     W = A0 [Phi_T,warp(eps_a) + Phi_T,weft(eps_b) + Phi_S(gamma)
@@ -267,11 +268,14 @@ def numpy_response(section: FabricSection, y: np.ndarray, hessian: bool = True) 
         h2[:, 0:3, 0:3] += along[:, None, None] * _outer(dc_dy, dc_dy)
         h2[:, 0:3, 0:3] += (area * moment_s * d_gamma)[:, None, None] * second_y
 
-    # Bending per fibre direction and twist: chi = rows . K / (h/2), linear in y.
+    # Bending per fibre direction: the deformed fibre's curvature chi = K_aa / ((h/2) p_a),
+    # K_aa = rows . K the change of x_,a . V_,a (per reference length squared) and p_a =
+    # lambda_a^2 (docs/theory.md §5.7: the fibrous shell's 1/R at every stretch); the twist
+    # 2 chi_ab = 2 K_ab / (h/2), linear in y.
     half = section.half_thickness
     twist_row = 2.0 * section.shear_rows / half
     curvatures = np.stack(
-        [np.sum(rows[0] * bending, 1) / half, np.sum(rows[1] * bending, 1) / half,
+        [np.sum(rows[0] * bending, 1) / (half * pa), np.sum(rows[1] * bending, 1) / (half * pb),
          np.sum(twist_row * bending, 1)],
         -1,
     )  # fmt: skip
@@ -287,11 +291,23 @@ def numpy_response(section: FabricSection, y: np.ndarray, hessian: bool = True) 
     energy = energy + fabric.bending_weft.energy(curvatures[:, 1])
     energy = energy + 0.5 * section.twisting * curvatures[:, 2] ** 2
     slopes = (fabric.bending.slope(curvatures[:, 0]), fabric.bending_weft.slope(curvatures[:, 1]))
-    for k, r in enumerate((rows[0] / half, rows[1] / half, twist_row)):
-        gradient[:, 3:6] += (area * moments[:, k])[:, None] * r
+    for k, (r, p) in enumerate(zip(rows, stretch)):
+        # d chi / d(membrane, bending) = (-2 chi / p r, r / (half p)); the second derivatives
+        # 8 chi / p^2 r r (membrane, membrane), -2 / (half p^2) r r (membrane, bending).
+        chi = curvatures[:, k]
+        d_chi = np.concatenate([(-2.0 * chi / p)[:, None] * r, r / (half * p)[:, None]], 1)
+        gradient[:, 0:6] += (area * moments[:, k])[:, None] * d_chi
         if h2 is not None:
-            slope = slopes[k] if k < 2 else np.full(m, section.twisting)
-            h2[:, 3:6, 3:6] += (area * slope)[:, None, None] * _outer(r, r)
+            h2[:, 0:6, 0:6] += (area * slopes[k])[:, None, None] * _outer(d_chi, d_chi)
+            pull = area * moments[:, k]
+            rr = _outer(r, r)
+            h2[:, 0:3, 0:3] += (pull * 8.0 * chi / p**2)[:, None, None] * rr
+            cross = (pull * -2.0 / (half * p**2))[:, None, None] * rr
+            h2[:, 0:3, 3:6] += cross
+            h2[:, 3:6, 0:3] += cross
+    gradient[:, 3:6] += (area * moments[:, 2])[:, None] * twist_row
+    if h2 is not None:
+        h2[:, 3:6, 3:6] += (area * section.twisting)[:, None, None] * _outer(twist_row, twist_row)
     energy = area * energy
 
     # Transverse shear: a quadratic form of the tying changes.
