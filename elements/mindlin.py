@@ -95,7 +95,8 @@ class MindlinShell(ElementType):
         homogeneous isotropic plate with the fabric's initial bending stiffness B0).
     twisting : a Fabric section's twisting stiffness D_t, N mm (moment per width per unit
         engineering twist 2 chi_12); default B0 / 2 (``default_twisting``: the isotropic plate
-        of the transverse shear default, nu = 0).
+        of the transverse shear default, nu = 0). Both must be given when B0 = 0 (bending
+        laws with a toe): a ValueError otherwise, the defaults would be a mechanism.
     """
 
     dofs = ("ux", "uy", "uz", "alpha", "beta")
