@@ -61,8 +61,14 @@ def _check_odd(x: np.ndarray, y: np.ndarray, what: str) -> None:
 def _table(x: ArrayLike, y: ArrayLike, what: str, odd: bool) -> tuple[np.ndarray, np.ndarray]:
     """Validated knots of a piecewise-linear law; with ``odd`` a table given for x >= 0 is
     mirrored to negative x, and one given over both signs must be odd (``_check_odd``)."""
-    x = as_reals(x, f"{what} table abscissae", "a sequence of numbers").ravel()
-    y = as_reals(y, f"{what} table values", "a sequence of numbers").ravel()
+    x = as_reals(x, f"{what} table abscissae", "a sequence of numbers")
+    y = as_reals(y, f"{what} table values", "a sequence of numbers")
+    if x.ndim > 1 or y.ndim > 1:  # a nested list is a typo, not a table to flatten
+        raise ValueError(
+            f"{what} table needs two flat sequences of numbers, got arrays of shapes "
+            f"{x.shape} and {y.shape}"
+        )
+    x, y = x.ravel(), y.ravel()
     if x.size != y.size or x.size < 2:
         raise ValueError(
             f"{what} table needs two sequences of equal length >= 2, got {x.size} and {y.size}"
@@ -440,13 +446,17 @@ class ShearLaw:
         ------
         ValueError
             Invalid tables, as :meth:`TensionLaw.table`; a table over both signs that is
-            not odd.
+            not odd; an angle of pi/2 or more (degrees given for radians).
         """
-        return Law(
-            "ShearLaw",
-            f"ShearLaw.table({np.size(gamma)} points)",
-            knots=_table(gamma, moment, "ShearLaw", odd=True),
-        )
+        knots = _table(gamma, moment, "ShearLaw", odd=True)
+        largest = float(np.abs(knots[0]).max())
+        if largest >= 0.5 * np.pi:  # fibres at 90 deg to each other lie flat on each other
+            raise ValueError(
+                f"ShearLaw table: shear angles are in radians and below pi/2 (90 deg: the "
+                f"fibres would lie flat on each other), got up to {largest:g}: degrees? give "
+                f"them in radians (x pi / 180)"
+            )
+        return Law("ShearLaw", f"ShearLaw.table({np.size(gamma)} points)", knots=knots)
 
 
 class BendingLaw:

@@ -42,3 +42,19 @@ def test_a_tension_table_may_differ_in_compression():
     as given, T(-0.01) = -5 N/mm and T(0.01) = 20 N/mm."""
     law = TensionLaw.table([-0.01, 0.0, 0.01], [-5.0, 0.0, 20.0])
     assert law.value(np.array([-0.01, 0.01])) == pytest.approx([-5.0, 20.0], rel=1e-15)
+
+
+def test_a_shear_table_in_degrees_is_refused():
+    """A picture-frame curve typed in degrees, [0, 20, 40, 60]: an angle past pi/2 rad cannot
+    be (the fibres would lie flat on each other), and read as radians it is 57 x too soft."""
+    with pytest.raises(ValueError, match=r"radians.*degrees\?"):
+        ShearLaw.table([0.0, 20.0, 40.0, 60.0], [0.0, 0.05, 0.15, 0.6])
+    law = ShearLaw.table(np.radians([0.0, 20.0, 40.0, 60.0]), [0.0, 0.05, 0.15, 0.6])
+    assert float(law.value(np.radians(40.0))) == pytest.approx(0.15, rel=1e-12)
+
+
+@pytest.mark.parametrize("family", ["tension", "shear", "bending"])
+def test_a_nested_table_is_refused_not_flattened(family):
+    make = {"tension": TensionLaw.table, **FAMILIES}[family]
+    with pytest.raises(ValueError, match="flat sequences"):
+        make([[0.0, 1e-3]], [[0.0, 0.0075]])
