@@ -39,6 +39,7 @@ def _response_cells(
     half,
     twisting,
     transverse,
+    reference_bending,
     y,
     hessian,
     energy,
@@ -60,6 +61,7 @@ def _response_cells(
     dc_dy = np.empty(3)
     rows = np.empty((3, 3))  # bending rows: warp / (h/2), weft / (h/2), twist
     d_chi = np.empty(6)  # a fibre curvature's derivative in the membrane and bending measures
+    whole = np.empty(2)  # the deformed warp and weft fibres' curvatures
     for e in range(m):
         a = area[e]
         for j in range(3):
@@ -134,8 +136,10 @@ def _response_cells(
             chi[0] += dq[0, j] * y[e, 3 + j]
             chi[1] += dq[1, j] * y[e, 3 + j]
             chi[2] += rows[2, j] * y[e, 3 + j]
-        chi[0] /= half * pa
-        chi[1] /= half * pb
+        # whole: the deformed fibre's curvature (K_aa + k0) / ((h/2) p); chi its change
+        for k in range(2):
+            whole[k] = (chi[k] + reference_bending[e, k]) / (half * p[k])
+            chi[k] = whole[k] - reference_bending[e, k] / half
         for k in range(3):
             curvatures[e, k] = chi[k]
         moments[e, 0] = law_value(integers, reals, _BENDING, chi[0])
@@ -149,7 +153,7 @@ def _response_cells(
             # derivatives 8 chi / p^2 dq dq (membrane, membrane), -2 / (half p^2) dq dq (cross)
             pk = p[k]
             for j in range(3):
-                d_chi[j] = -2.0 * chi[k] / pk * dq[k, j]
+                d_chi[j] = -2.0 * whole[k] / pk * dq[k, j]
                 d_chi[3 + j] = rows[k, j] / pk
             along = a * moments[e, k]
             for j in range(6):
@@ -159,7 +163,7 @@ def _response_cells(
                 for i in range(6):
                     for j in range(6):
                         h2[e, i, j] += slope * d_chi[i] * d_chi[j]
-                inner = along * 8.0 * chi[k] / pk**2
+                inner = along * 8.0 * whole[k] / pk**2
                 cross = along * -2.0 / (half * pk**2)
                 for i in range(3):
                     for j in range(3):
@@ -198,6 +202,7 @@ def section_response(
     half_thickness: float,
     twisting: float,
     transverse: np.ndarray,
+    reference_bending: np.ndarray,
     y: np.ndarray,
     hessian: bool,
 ):
@@ -208,7 +213,8 @@ def section_response(
     integers, reals : the fabric's laws packed in ``LAW_ORDER`` (packed_laws.pack_laws).
     area : (m,) float, mm^2; warp_rows, weft_rows, shear_rows : (m, 3) float;
     half_thickness : float, mm; twisting : float, N mm; transverse : (m, 4, 4) float, N mm:
-        the tables of elements.fabric_section.FabricSection.
+        reference_bending : (m, 2) float, mm: the tables of
+        elements.fabric_section.FabricSection.
     y : (m, 10) float, the section measures.
     hessian : bool, also d2W/dy2.
 
@@ -235,6 +241,7 @@ def section_response(
         float(half_thickness),
         float(twisting),
         np.ascontiguousarray(transverse, dtype=float),
+        np.ascontiguousarray(reference_bending, dtype=float),
         np.ascontiguousarray(y, dtype=float),
         bool(hessian),
         energy,

@@ -184,6 +184,15 @@ class MindlinFabricBlock(MindlinShellBlock):
         strains = np.matmul(to_lamina, tying[None])  # (m, P, 2, 4)
         weight = (self.reference_area / 3.0)[:, None, None, None] * self.transverse_shear
         transverse = np.sum(weight * np.matmul(np.swapaxes(strains, -1, -2), strains), axis=1)
+        # The reference's bending measure K0 (the y[3:6] of the reference against nothing:
+        # half the difference of the outer levels' E11, E22, 2 E12), its fibre products k0
+        # (docs/theory.md §5.7: the curvature's change from the reference fibre's).
+        metric = self._metric(ref)
+        level = np.stack([0.5 * metric["11"], 0.5 * metric["22"], metric["12"]], axis=-1)
+        bending0 = 0.5 * (level[:, 2] - level[:, 0])  # (m, 3)
+        reference_bending = np.stack(
+            [np.sum(warp_rows * bending0, 1), np.sum(weft_rows * bending0, 1)], -1
+        )
         self.section = FabricSection(
             fabric=self.fabric,
             area=self.reference_area.copy(),
@@ -193,6 +202,7 @@ class MindlinFabricBlock(MindlinShellBlock):
             half_thickness=half,
             twisting=self.twisting,
             transverse=transverse,
+            reference_bending=reference_bending,
         )
         assert transverse.shape == (m, 4, 4)
 
@@ -205,6 +215,7 @@ class MindlinFabricBlock(MindlinShellBlock):
             weft_rows=s.weft_rows[cells],
             shear_rows=s.shear_rows[cells],
             transverse=s.transverse[cells],
+            reference_bending=np.asarray(s.reference_bending)[cells],
         )
 
     def section_measures(self, vec: dict, cells: slice = slice(None)) -> np.ndarray:

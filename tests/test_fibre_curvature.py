@@ -42,3 +42,34 @@ def test_a_stretched_strip_rolled_on_a_cylinder_has_the_cylinders_curvature(kine
     centre = reference[mesh.triangles].mean(axis=1)[:, 0]
     interior = (centre > LENGTH / 8) & (centre < LENGTH - LENGTH / 8)
     assert curvature[interior] == pytest.approx(1.0 / RADIUS, rel=1e-4)
+
+
+@pytest.mark.parametrize("stretch", [1.0, 1.05, 1.2])
+def test_a_strip_curved_in_its_reference_takes_the_change_of_its_fibres_curvature(stretch):
+    """The Mindlin section on a strip whose reference lies on a cylinder of radius R0 = 50 mm,
+    stretched by lambda onto one of R = 100 mm: the bending law takes the change of the
+    fibre's curvature 1/R - 1/R0 at every stretch (the output's sign: -(kappa - kappa0), as
+    -1/R for a flat strip rolled towards +z). Tolerance 2e-4 relative: the reference directors
+    are the faceted cylinder's nodal normals (7e-5 measured). Dividing the change of x_,a .
+    V_,a alone by lambda^2 gave 1/R - 1/(R0 lambda^2) (0.39 of it at lambda = 1.2)."""
+    flat = Mesh.rectangle(LENGTH, WIDTH, nx=16, ny=2)
+    reference, bent = flat.points, 50.0
+    angle0 = reference[:, 0] / bent
+    curved = Mesh(
+        np.column_stack([bent * np.sin(angle0), reference[:, 1], bent * (1 - np.cos(angle0))]),
+        triangles=flat.triangles,
+    )
+    model = Model(curved)
+    model.add(MindlinShell(FABRIC))
+    compiled = model.compile()
+    state = compiled.initial_state()
+    angle = stretch * reference[:, 0] / RADIUS
+    positions = np.column_stack(
+        [RADIUS * np.sin(angle), reference[:, 1], RADIUS * (1.0 - np.cos(angle))]
+    )
+    normals = np.column_stack([-np.sin(angle), np.zeros(len(angle)), np.cos(angle)])
+    state = dataclasses.replace(state, positions=positions, directors=normals)
+    curvature = np.asarray(compiled.fields(state)["triangle"]["warp_curvature"])
+    centre = reference[flat.triangles].mean(axis=1)[:, 0]
+    interior = (centre > LENGTH / 8) & (centre < LENGTH - LENGTH / 8)
+    assert curvature[interior] == pytest.approx(-(1.0 / RADIUS - 1.0 / bent), rel=2e-4)
