@@ -49,7 +49,7 @@ CELLS = 4
 
 def build(cells: int):
     layup = Layup(
-        PLY, (0.0, 45.0), 40.0, cells=cells, kinematics="mindlin", friction=0.2,
+        PLY, (0.0, 45.0), 40.0, cells=cells, kinematics="mindlin-elastic", friction=0.2,
         surface="curved", rule="gauss", penalty=100.0,
     )  # fmt: skip
     x = layup.mesh.points.copy()

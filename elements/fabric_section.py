@@ -13,7 +13,9 @@ rows, they give the quantities the fabric's laws take, the same ones the fibrous
 laws: the log fibre strains eps = log(lambda) with lambda^2 = 1 + 2 E_aa, the shear angle
 gamma = asin(2 E_ab / (lambda_a lambda_b)) (pi/2 less the warp-weft angle, Bai Fig. 4, between
 fibres that start orthogonal),
-the curvatures chi_aa = K_aa / (h/2), chi_bb, and the engineering twist 2 chi_ab. The strain
+the changes of the deformed fibres' curvatures chi_aa = (K_aa + k0) / ((h/2) lambda_a^2) -
+k0 / (h/2) (k0 the reference's, ``FabricSection.reference_bending``), chi_bb, and the
+engineering twist 2 chi_ab = 2 K_ab / (h/2). The strain
 energy of the cell is
 
     W = A0 [Phi_T,warp(eps_a) + Phi_T,weft(eps_b) + Phi_S(gamma)
@@ -55,6 +57,11 @@ class FabricSection:
     twisting : float, N mm, D_t: the moment per unit width per unit engineering twist.
     transverse : (m, 4, 4) float, N mm, Q: the transverse shear energy form on the tying
         changes, integrated over the cell.
+    reference_bending : (m, 2) float, mm, optional
+        k0 = rows . K0 of the warp and the weft, K0 the bending measure of the reference
+        (x_,i . V_,j h / 4 + sym. at the reference, the value y[3:6] are changes of): (h/2)
+        times the reference fibre's curvature; None: zeros (a flat reference, directors
+        normal to it).
     laws : (integers, reals)
         The fabric's laws packed for the compiled response (elements/fabric_section_kernels.py,
         ``LAW_ORDER``), set from ``fabric``.
@@ -68,9 +75,12 @@ class FabricSection:
     half_thickness: float
     twisting: float
     transverse: np.ndarray
+    reference_bending: np.ndarray | None = None
     laws: tuple[np.ndarray, np.ndarray] = field(init=False, repr=False, compare=False)
 
     def __post_init__(self) -> None:
+        if self.reference_bending is None:
+            object.__setattr__(self, "reference_bending", np.zeros((len(self.area), 2)))
         order = fabric_section_kernels.LAW_ORDER
         packed = pack_laws([getattr(self.fabric, name) for name in order])
         object.__setattr__(self, "laws", packed)
@@ -189,6 +199,7 @@ def response(section: FabricSection, y: np.ndarray, hessian: bool = True) -> Sec
         section.half_thickness,
         section.twisting,
         section.transverse,
+        np.asarray(section.reference_bending),
         y,
         hessian,
     )
@@ -267,14 +278,19 @@ def numpy_response(section: FabricSection, y: np.ndarray, hessian: bool = True) 
         h2[:, 0:3, 0:3] += along[:, None, None] * _outer(dc_dy, dc_dy)
         h2[:, 0:3, 0:3] += (area * moment_s * d_gamma)[:, None, None] * second_y
 
-    # Bending per fibre direction and twist: chi = rows . K / (h/2), linear in y.
+    # Bending per fibre direction: the change of the deformed fibre's curvature, chi =
+    # (K_aa + k0) / ((h/2) p_a) - k0 / (h/2), K_aa + k0 = rows . K + k0 the product x_,a .
+    # V_,a h/2 (per reference length squared), p_a = lambda_a^2 (docs/theory.md §5.7: the
+    # fibrous shell's 1/R at every stretch); the twist 2 chi_ab = 2 K_ab / (h/2), linear in y.
     half = section.half_thickness
+    k0 = np.asarray(section.reference_bending)
     twist_row = 2.0 * section.shear_rows / half
+    # q = the deformed fibre's curvature (k0 = 0: chi itself)
+    whole = [(np.sum(rows[k] * bending, 1) + k0[:, k]) / (half * p) for k, p in enumerate(stretch)]
     curvatures = np.stack(
-        [np.sum(rows[0] * bending, 1) / half, np.sum(rows[1] * bending, 1) / half,
-         np.sum(twist_row * bending, 1)],
+        [whole[0] - k0[:, 0] / half, whole[1] - k0[:, 1] / half, np.sum(twist_row * bending, 1)],
         -1,
-    )  # fmt: skip
+    )
     moments = np.stack(
         [
             fabric.bending.value(curvatures[:, 0]),
@@ -287,11 +303,23 @@ def numpy_response(section: FabricSection, y: np.ndarray, hessian: bool = True) 
     energy = energy + fabric.bending_weft.energy(curvatures[:, 1])
     energy = energy + 0.5 * section.twisting * curvatures[:, 2] ** 2
     slopes = (fabric.bending.slope(curvatures[:, 0]), fabric.bending_weft.slope(curvatures[:, 1]))
-    for k, r in enumerate((rows[0] / half, rows[1] / half, twist_row)):
-        gradient[:, 3:6] += (area * moments[:, k])[:, None] * r
+    for k, (r, p) in enumerate(zip(rows, stretch)):
+        # d chi / d(membrane, bending) = (-2 q / p r, r / (half p)); the second derivatives
+        # 8 q / p^2 r r (membrane, membrane), -2 / (half p^2) r r (membrane, bending).
+        chi = whole[k]
+        d_chi = np.concatenate([(-2.0 * chi / p)[:, None] * r, r / (half * p)[:, None]], 1)
+        gradient[:, 0:6] += (area * moments[:, k])[:, None] * d_chi
         if h2 is not None:
-            slope = slopes[k] if k < 2 else np.full(m, section.twisting)
-            h2[:, 3:6, 3:6] += (area * slope)[:, None, None] * _outer(r, r)
+            h2[:, 0:6, 0:6] += (area * slopes[k])[:, None, None] * _outer(d_chi, d_chi)
+            pull = area * moments[:, k]
+            rr = _outer(r, r)
+            h2[:, 0:3, 0:3] += (pull * 8.0 * chi / p**2)[:, None, None] * rr
+            cross = (pull * -2.0 / (half * p**2))[:, None, None] * rr
+            h2[:, 0:3, 3:6] += cross
+            h2[:, 3:6, 0:3] += cross
+    gradient[:, 3:6] += (area * moments[:, 2])[:, None] * twist_row
+    if h2 is not None:
+        h2[:, 3:6, 3:6] += (area * section.twisting)[:, None, None] * _outer(twist_row, twist_row)
     energy = area * energy
 
     # Transverse shear: a quadratic form of the tying changes.

@@ -39,6 +39,7 @@ def _response_cells(
     half,
     twisting,
     transverse,
+    reference_bending,
     y,
     hessian,
     energy,
@@ -59,6 +60,8 @@ def _response_cells(
     second = np.empty((3, 3))
     dc_dy = np.empty(3)
     rows = np.empty((3, 3))  # bending rows: warp / (h/2), weft / (h/2), twist
+    d_chi = np.empty(6)  # a fibre curvature's derivative in the membrane and bending measures
+    whole = np.empty(2)  # the deformed warp and weft fibres' curvatures
     for e in range(m):
         a = area[e]
         for j in range(3):
@@ -122,7 +125,8 @@ def _response_cells(
                         for r in range(3):
                             second_y += dq[q, i] * second[q, r] * dq[r, j]
                     h2[e, i, j] += along * dc_dy[i] * dc_dy[j] + pull * second_y
-        # Bending per fibre direction and twist: chi = rows . K / (h/2), linear in y.
+        # Bending per fibre direction: the deformed fibre's curvature chi = K_aa / ((h/2) p),
+        # p = lambda^2 (docs/theory.md §5.7); the twist 2 chi_ab = 2 K_ab / (h/2), linear in y.
         for j in range(3):
             rows[0, j] = dq[0, j] / half
             rows[1, j] = dq[1, j] / half
@@ -132,8 +136,10 @@ def _response_cells(
             chi[0] += dq[0, j] * y[e, 3 + j]
             chi[1] += dq[1, j] * y[e, 3 + j]
             chi[2] += rows[2, j] * y[e, 3 + j]
-        chi[0] /= half
-        chi[1] /= half
+        # whole: the deformed fibre's curvature (K_aa + k0) / ((h/2) p); chi its change
+        for k in range(2):
+            whole[k] = (chi[k] + reference_bending[e, k]) / (half * p[k])
+            chi[k] = whole[k] - reference_bending[e, k] / half
         for k in range(3):
             curvatures[e, k] = chi[k]
         moments[e, 0] = law_value(integers, reals, _BENDING, chi[0])
@@ -142,18 +148,36 @@ def _response_cells(
         w += law_energy(integers, reals, _BENDING, chi[0])
         w += law_energy(integers, reals, _BENDING_WEFT, chi[1])
         w += 0.5 * twisting * chi[2] ** 2
-        for k in range(3):
-            along = a * moments[e, k]
+        for k in range(2):
+            # d chi / d(membrane, bending) = (-2 chi / p dq_k, dq_k / (half p)); second
+            # derivatives 8 chi / p^2 dq dq (membrane, membrane), -2 / (half p^2) dq dq (cross)
+            pk = p[k]
             for j in range(3):
-                gradient[e, 3 + j] += along * rows[k, j]
+                d_chi[j] = -2.0 * whole[k] / pk * dq[k, j]
+                d_chi[3 + j] = rows[k, j] / pk
+            along = a * moments[e, k]
+            for j in range(6):
+                gradient[e, j] += along * d_chi[j]
             if hessian:
-                if k < 2:
-                    slope = law_slope(integers, reals, _BENDING + k, chi[k])
-                else:
-                    slope = twisting
+                slope = a * law_slope(integers, reals, _BENDING + k, chi[k])
+                for i in range(6):
+                    for j in range(6):
+                        h2[e, i, j] += slope * d_chi[i] * d_chi[j]
+                inner = along * 8.0 * whole[k] / pk**2
+                cross = along * -2.0 / (half * pk**2)
                 for i in range(3):
                     for j in range(3):
-                        h2[e, 3 + i, 3 + j] += a * slope * rows[k, i] * rows[k, j]
+                        rr = dq[k, i] * dq[k, j]
+                        h2[e, i, j] += inner * rr
+                        h2[e, i, 3 + j] += cross * rr
+                        h2[e, 3 + i, j] += cross * rr
+        along = a * moments[e, 2]
+        for j in range(3):
+            gradient[e, 3 + j] += along * rows[2, j]
+        if hessian:
+            for i in range(3):
+                for j in range(3):
+                    h2[e, 3 + i, 3 + j] += a * twisting * rows[2, i] * rows[2, j]
         w = a * w
         # Transverse shear: a quadratic form of the tying changes.
         for i in range(4):
@@ -178,6 +202,7 @@ def section_response(
     half_thickness: float,
     twisting: float,
     transverse: np.ndarray,
+    reference_bending: np.ndarray,
     y: np.ndarray,
     hessian: bool,
 ):
@@ -188,7 +213,8 @@ def section_response(
     integers, reals : the fabric's laws packed in ``LAW_ORDER`` (packed_laws.pack_laws).
     area : (m,) float, mm^2; warp_rows, weft_rows, shear_rows : (m, 3) float;
     half_thickness : float, mm; twisting : float, N mm; transverse : (m, 4, 4) float, N mm:
-        the tables of elements.fabric_section.FabricSection.
+        reference_bending : (m, 2) float, mm: the tables of
+        elements.fabric_section.FabricSection.
     y : (m, 10) float, the section measures.
     hessian : bool, also d2W/dy2.
 
@@ -215,6 +241,7 @@ def section_response(
         float(half_thickness),
         float(twisting),
         np.ascontiguousarray(transverse, dtype=float),
+        np.ascontiguousarray(reference_bending, dtype=float),
         np.ascontiguousarray(y, dtype=float),
         bool(hessian),
         energy,

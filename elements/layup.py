@@ -6,13 +6,15 @@ Each ply k (1 = bottom) is ``femcore.blank.ply_blank`` at its angle a_k: a mesh 
 triangles along its warp w_k = (cos a_k, sin a_k, 0) and weft, whole cells inside the blank
 (the outline exact at 0, 90 and 45 deg mod 90), its mid-surface at z = bottom + (k - 1/2) h,
 h the fabric's thickness (the plies' faces touch). The shell is a ``FibrousShell(fabric,
-warp=w_k)`` or a ``MindlinShell`` of the fabric's Mindlin calibration with the same warp
-(``ElasticShell.equivalent(fabric, warp=w_k)``, as the single-ply forming case), or any
-element a factory builds from (fabric, warp). Neighbouring plies touch through
-``PlyContact`` (the upper ply's lower face on the lower ply's upper face, h / 2 from the
-mid-surfaces along the nodal normals of fibrous plies, along the directors of Mindlin ones)
-with the Coulomb coefficient ``friction``; its node fields hold the inter-ply slip
-(``ply_slip``, mm, elements/ply_slip.py).
+warp=w_k)`` ("fibrous"), a ``MindlinShell(fabric, warp=w_k)`` of the fabric's own laws
+("mindlin", as a Mindlin part of that fabric and a case file's ``[layup]`` build it), a
+``MindlinShell`` of the fabric's equivalent elastic section with the same warp
+(``ElasticShell.equivalent(fabric, warp=w_k)``, the laws' initial slopes: "mindlin-elastic",
+as the single-ply forming case), or any element a factory builds from (fabric, warp).
+Neighbouring plies touch through ``PlyContact`` (the upper ply's lower face on the lower
+ply's upper face, h / 2 from the mid-surfaces along the nodal normals of fibrous plies,
+along the directors of Mindlin ones) with the Coulomb coefficient ``friction``; its node
+fields hold the inter-ply slip (``ply_slip``, mm, elements/ply_slip.py).
 
 Unlike ``elements.plies.PlyStack`` (copies of one mesh splitting one stack's thickness), the
 plies here are whole fabrics with meshes of their own that do not match from ply to ply.
@@ -39,18 +41,25 @@ from materials.fabric import Fabric
 
 __all__ = ["KINEMATICS", "Layup", "ply_element", "ply_shear"]
 
-KINEMATICS = ("fibrous", "mindlin")
+KINEMATICS = ("fibrous", "mindlin", "mindlin-elastic")
 #: More plies than this is a typo rather than a preform.
 MAX_PLIES = 200
 
 
-def ply_element(kinematics: str, fabric: Fabric, warp: np.ndarray) -> ElementType:
-    """The shell of one ply: ``FibrousShell(fabric, warp=warp)`` ("fibrous") or
-    ``MindlinShell(ElasticShell.equivalent(fabric, warp=warp))`` ("mindlin")."""
+def ply_element(kinematics: str, fabric: Fabric, warp: np.ndarray, **options: Any) -> ElementType:
+    """The shell of one ply, ``options`` passed to its element.
+
+    "fibrous": ``FibrousShell(fabric, warp=warp)``; "mindlin": ``MindlinShell(fabric,
+    warp=warp)``, the fabric's own laws (docs/theory.md §5.7); "mindlin-elastic":
+    ``MindlinShell(ElasticShell.equivalent(fabric, warp=warp))``, the linear section of the
+    laws' initial slopes (docs/theory.md §5.4).
+    """
     if kinematics == "fibrous":
-        return FibrousShell(fabric, warp=warp)
+        return FibrousShell(fabric, warp=warp, **options)
     if kinematics == "mindlin":
-        return MindlinShell(ElasticShell.equivalent(fabric, warp=warp))
+        return MindlinShell(fabric, warp=warp, **options)
+    if kinematics == "mindlin-elastic":
+        return MindlinShell(ElasticShell.equivalent(fabric, warp=warp), **options)
     raise ValueError(f"kinematics must be one of {KINEMATICS}, got {kinematics!r}")
 
 
@@ -87,7 +96,8 @@ class Layup:
     cells : int
         Fibre segments across lx (``femcore.blank.ply_blank``).
     kinematics : str or callable
-        "fibrous", "mindlin" (``ply_element``), or ``element(fabric, warp) -> ElementType``.
+        "fibrous", "mindlin" (the fabric's own laws), "mindlin-elastic" (the equivalent
+        elastic section) (``ply_element``), or ``element(fabric, warp) -> ElementType``.
     friction : float
         The Coulomb coefficient mu >= 0 between neighbouring plies (0: frictionless).
     bottom : float

@@ -95,7 +95,8 @@ class MindlinShell(ElementType):
         homogeneous isotropic plate with the fabric's initial bending stiffness B0).
     twisting : a Fabric section's twisting stiffness D_t, N mm (moment per width per unit
         engineering twist 2 chi_12); default B0 / 2 (``default_twisting``: the isotropic plate
-        of the transverse shear default, nu = 0).
+        of the transverse shear default, nu = 0). Both must be given when B0 = 0 (bending
+        laws with a toe): a ValueError otherwise, the defaults would be a mechanism.
     """
 
     dofs = ("ux", "uy", "uz", "alpha", "beta")
@@ -644,13 +645,13 @@ class MindlinShellBlock(ElementBlock):
     def _rotary_factor(self, scaling: str | None) -> np.ndarray:
         """j (m,), mm^2: I = m j, the B2 scaling of docs/theory.md §6.2 (``rotary_mode``),
         from the reference configuration (computed once at bind)."""
-        kappa, nu = self.material.shear_factor, self.material.poisson
+        kappa, nu = self.material.shear_factor, _rotary_poisson(self.material.poisson)
         return scaled_rotary_inertia(self, scaling, kappa * (1 - nu))
 
     def _closed_rotary_factor(self) -> np.ndarray:
         """B2's closed-form j (m,), mm^2, whatever rotary_scaling the shell was given: the one
         the automatic penalty's step is taken at (``penalty_stable_dt``)."""
-        kappa, nu = self.material.shear_factor, self.material.poisson
+        kappa, nu = self.material.shear_factor, _rotary_poisson(self.material.poisson)
         return scaled_rotary_inertia(self, "closed", kappa * (1 - nu))
 
     def _altitude(self, positions: np.ndarray | None = None) -> np.ndarray:
@@ -756,3 +757,10 @@ class MindlinShellBlock(ElementBlock):
 
 # The elastic section's level response (sigma = D^ e): the compiled tangent's condition.
 _ELASTIC_RESPONSE = MindlinShellBlock._level_response
+
+
+def _rotary_poisson(nu: float) -> float:
+    """The Poisson ratio of B2's factor kappa (1 - nu) (docs/theory.md §6.2), an isotropic
+    plate's: an orthotropic lamina's nu12 may pass 0.5 (up to sqrt(E1 / E2)) where 1 - nu
+    would shrink or turn negative; it is held to the isotropic range's end, 0.5."""
+    return min(nu, 0.5)

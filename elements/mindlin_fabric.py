@@ -59,13 +59,33 @@ def _initial_slope(law) -> float:
     return float(np.asarray(law.slope(np.array(0.0))))
 
 
+def _bending_slope(fabric, what: str, unit: str) -> float:
+    """B0, the largest initial slope of the fabric's bending laws, N mm; a ValueError naming
+    ``what`` when it is 0 (a law with a toe): a default of 0 would be a mechanism."""
+    b0 = max(_initial_slope(fabric.bending), _initial_slope(fabric.bending_weft))
+    if not b0 > 0.0:
+        raise ValueError(
+            f"MindlinShell(fabric): the fabric's bending laws have zero slope at zero curvature "
+            f"(B0 = {b0:g} N mm: a toe), so the default {what} from B0 would be 0, a "
+            f"mechanism; give transverse_shear (N/mm) and twisting (N mm) explicitly (the "
+            f"defaults' rule 5 B / h^2 and B / 2 with B the law's slope past the toe, "
+            f"docs/theory.md §5.7); {what} is in {unit}"
+        )
+    return b0
+
+
 def default_transverse_shear(fabric) -> float:
     """S = 5 B0 / h^2, N/mm: kappa G h of the homogeneous isotropic plate (nu = 0, G = E / 2,
     kappa = 5/6) whose plate stiffness E h^3 / 12 is the fabric's largest initial bending
     slope B0. A solid-section Mindlin shell (Abaqus S3 on a homogeneous section) has that ratio
     of shear to bending stiffness, so the normals tilt by transverse shear as little as its do,
-    of order (h / L)^2; it is also ElasticShell.equivalent's default (G13 = E / 2)."""
-    b0 = max(_initial_slope(fabric.bending), _initial_slope(fabric.bending_weft))
+    of order (h / L)^2; it is also ElasticShell.equivalent's default (G13 = E / 2).
+
+    Raises
+    ------
+    ValueError
+        B0 = 0 (bending laws with a toe): give the value explicitly."""
+    b0 = _bending_slope(fabric, "transverse_shear", "N/mm")
     return 5.0 * b0 / fabric.thickness**2
 
 
@@ -79,8 +99,13 @@ def default_twisting(fabric) -> float:
     Mindlin section needs one: the plate rule keeps it of the order of the bending, where the
     shear law through a solid section (K0 h^2 / 12) would make a stiff-shear stack such as
     paper (K0 = 1000 N/mm, h = 13 mm) 280 x stiffer in twist than in bending, a different
-    material."""
-    return 0.5 * max(_initial_slope(fabric.bending), _initial_slope(fabric.bending_weft))
+    material.
+
+    Raises
+    ------
+    ValueError
+        B0 = 0 (bending laws with a toe): give the value explicitly."""
+    return 0.5 * _bending_slope(fabric, "twisting", "N mm")
 
 
 class MindlinFabricBlock(MindlinShellBlock):
@@ -159,6 +184,15 @@ class MindlinFabricBlock(MindlinShellBlock):
         strains = np.matmul(to_lamina, tying[None])  # (m, P, 2, 4)
         weight = (self.reference_area / 3.0)[:, None, None, None] * self.transverse_shear
         transverse = np.sum(weight * np.matmul(np.swapaxes(strains, -1, -2), strains), axis=1)
+        # The reference's bending measure K0 (the y[3:6] of the reference against nothing:
+        # half the difference of the outer levels' E11, E22, 2 E12), its fibre products k0
+        # (docs/theory.md §5.7: the curvature's change from the reference fibre's).
+        metric = self._metric(ref)
+        level = np.stack([0.5 * metric["11"], 0.5 * metric["22"], metric["12"]], axis=-1)
+        bending0 = 0.5 * (level[:, 2] - level[:, 0])  # (m, 3)
+        reference_bending = np.stack(
+            [np.sum(warp_rows * bending0, 1), np.sum(weft_rows * bending0, 1)], -1
+        )
         self.section = FabricSection(
             fabric=self.fabric,
             area=self.reference_area.copy(),
@@ -168,6 +202,7 @@ class MindlinFabricBlock(MindlinShellBlock):
             half_thickness=half,
             twisting=self.twisting,
             transverse=transverse,
+            reference_bending=reference_bending,
         )
         assert transverse.shape == (m, 4, 4)
 
@@ -180,6 +215,7 @@ class MindlinFabricBlock(MindlinShellBlock):
             weft_rows=s.weft_rows[cells],
             shear_rows=s.shear_rows[cells],
             transverse=s.transverse[cells],
+            reference_bending=np.asarray(s.reference_bending)[cells],
         )
 
     def section_measures(self, vec: dict, cells: slice = slice(None)) -> np.ndarray:

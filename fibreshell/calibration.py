@@ -27,7 +27,7 @@ from typing import Any
 import numpy as np
 
 from elements import FibrousShell, MindlinShell
-from elements.mindlin_fabric import default_transverse_shear, default_twisting
+from elements.mindlin_fabric import default_transverse_shear
 from femcore.checks import check_positive
 from materials import ElasticShell, Fabric
 
@@ -162,19 +162,16 @@ class Calibration:
                 "bending_law_warp": repr(fabric.bending),
             }
         laws = self.section_fabric(fabric)
-        transverse = (
-            default_transverse_shear(fabric)
-            if self.transverse_shear is None
-            else self.transverse_shear
-        )
+        # the shell's own S and D_t, both from the scaled laws as ``mindlin`` builds it
+        shell = MindlinShell(laws, transverse_shear=self.transverse_shear)
         out = {
             "bending_law_warp": repr(laws.bending),
             "bending_law_weft": repr(laws.bending_weft),
             "bending_scale": self.bending_scale,
             "tension_law_warp": repr(laws.tension),
             "shear_law": repr(laws.shear),
-            "transverse_shear_N_per_mm": transverse,
-            "twisting_N_mm": default_twisting(laws),
+            "transverse_shear_N_per_mm": shell.transverse_shear,
+            "twisting_N_mm": shell.twisting,
         }
         if self.fitted:
             out["fit"] = self.fitted
@@ -199,8 +196,8 @@ class Calibration:
                 text += f", B = {b0:.3g} N mm at every curvature"
             return text
         s = self.transverse_shear
-        if s is None and fabric is not None:
-            s = default_transverse_shear(fabric)
+        if s is None and fabric is not None:  # the default of the scaled laws, as the shell's
+            s = default_transverse_shear(self.section_fabric(fabric))
         shear = f", S = {s:.3g} N/mm" if s is not None else ""
         scale = f", bending x {self.bending_scale:.3g}" if self.bending_scale != 1.0 else ""
         return f"Mindlin calibration '{self.name}' (the fabric's laws{scale}{shear})"

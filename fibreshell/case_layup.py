@@ -11,7 +11,8 @@ material = { thickness = 0.3, ... }
 [layup]
 angles = [0.0, 90.0]              # deg, each ply's warp from +x about +z, bottom ply first
 friction = 0.2                    # ply on ply Coulomb coefficient (0)
-# kinematics = "mindlin"          # the plies' shell (default: the part's element)
+# kinematics = "mindlin"          # the plies' shell (default: the part's element);
+#                                 # "mindlin-elastic": the equivalent elastic section
 # penalty, rule, smoothing, faces, surface, lower_rule: of every elements.PlyContact
 ```
 
@@ -23,7 +24,9 @@ layup's, every ply's nodes in one mesh: a node-set name ("left", ...) or a bound
 the nodes of every ply there, "ply_k" (1 = bottom) and "ply_k_left" ... one ply's. The ply's
 shell is the part's element with the part's options and the ply's warp ("fibrous":
 ``FibrousShell(fabric, warp=w_k)``; "mindlin": ``MindlinShell(fabric, warp=w_k)``, the
-fabric's own laws, as a Mindlin part of that fabric is built).
+fabric's own laws, as a Mindlin part of that fabric is built; "mindlin-elastic":
+``MindlinShell(ElasticShell.equivalent(fabric, warp=w_k))``, the section of the laws'
+initial slopes), each ``elements.layup.ply_element`` as a Python ``Layup`` builds it.
 """
 
 from __future__ import annotations
@@ -34,7 +37,7 @@ from dataclasses import dataclass, field
 from typing import Any
 
 from elements import FibrousShell, MindlinShell
-from elements.layup import Layup
+from elements.layup import Layup, ply_element
 from elements.ply_contact import RULES
 from femcore.element import ElementType
 from fibreshell.case_reading import _number, _table, _Where
@@ -45,18 +48,21 @@ __all__ = ["LAYUP_KEYS", "Calibrated", "PlyShell", "layup_for", "read_layup"]
 LAYUP_KEYS = ("angles", "kinematics", "friction", "penalty", "rule", "smoothing", "faces",
               "surface", "lower_rule")  # fmt: skip
 PLY_SHELLS: dict[str, type] = {"fibrous": FibrousShell, "mindlin": MindlinShell}
+# [layup] kinematics -> the part's element it may be given with options of (the same class)
+PLY_KINDS = {"fibrous": "fibrous", "mindlin": "mindlin", "mindlin-elastic": "mindlin"}
 
 
 @dataclass(frozen=True)
 class PlyShell:
-    """A ply's shell from (fabric, warp): ``PLY_SHELLS[kind](fabric, warp=warp, **options)``
-    (a class, not a closure: a case's layup is pickled with the case by the sweep's workers)."""
+    """A ply's shell from (fabric, warp): ``elements.layup.ply_element(kind, fabric, warp,
+    **options)``, as a Python ``Layup`` of that kinematics builds it (a class, not a closure:
+    a case's layup is pickled with the case by the sweep's workers)."""
 
     kind: str
     options: dict = field(default_factory=dict)
 
     def __call__(self, fabric: Fabric, warp: Any) -> ElementType:
-        return PLY_SHELLS[self.kind](fabric, warp=warp, **self.options)
+        return ply_element(self.kind, fabric, warp, **self.options)
 
 
 @dataclass(frozen=True)
@@ -110,15 +116,15 @@ def read_layup(top: _Where, data: dict, parts: list[dict]) -> Layup:
             "warp", "a layup gives each ply its warp ([layup] angles): give no warp"
         )
     kinematics = value.get("kinematics", part["kind"])
-    if kinematics not in PLY_SHELLS:
+    if not isinstance(kinematics, str) or kinematics not in PLY_KINDS:
         raise where.error(
-            "kinematics", f"expected one of {', '.join(PLY_SHELLS)}, got {kinematics!r}"
+            "kinematics", f"expected one of {', '.join(PLY_KINDS)}, got {kinematics!r}"
         )
-    if kinematics != part["kind"] and options:
+    if PLY_KINDS[kinematics] != part["kind"] and options:
         raise where.error(
             "kinematics", f"the part's options {sorted(options)} are those of its element "
-            f"{part['kind']!r}, not of {kinematics!r}: write element = {kinematics!r} in the "
-            "part with its own options, or leave kinematics out",
+            f"{part['kind']!r}, not of {kinematics!r}: write element = "
+            f"{PLY_KINDS[kinematics]!r} in the part with its own options, or leave kinematics out",
         )  # fmt: skip
     lx, ly, nx, origin = _rectangle(top, data["mesh"])
     friction = _number(where, value.get("friction", 0.0), "friction")

@@ -8,7 +8,7 @@ import inspect
 from typing import Any
 
 from fibreshell import registry
-from fibreshell.case_reading import _keywords, _number, _table, _vector, _Where
+from fibreshell.case_reading import CaseError, _keywords, _number, _table, _vector, _Where
 from materials import BendingLaw, ElasticShell, Fabric, ShearLaw, TensionLaw
 
 
@@ -43,6 +43,20 @@ _LAWS = {
 }  # fmt: skip
 
 
+# The fields a Fabric needs, and those of a fabric no elastic section has (a Mindlin part's
+# material with one of them is a fabric, missing its laws: not an elastic section).
+_FABRIC_REQUIRED = tuple(
+    name
+    for name, p in inspect.signature(Fabric).parameters.items()
+    if p.default is inspect.Parameter.empty
+)
+_FABRIC_ONLY = (
+    set(inspect.signature(Fabric).parameters)
+    - set(inspect.signature(ElasticShell).parameters)
+    - set(inspect.signature(ElasticShell.orthotropic).parameters)
+)
+
+
 def _material(where: _Where, kind: str, value: Any):
     if value is None:
         raise where.error(None, "missing key 'material'")
@@ -55,7 +69,8 @@ def _material(where: _Where, kind: str, value: Any):
         # A Mindlin part of a fabric preset has the fabric section (its own laws, MindlinShell
         # accepts a Fabric): the same material the fibrous shell would have.
         return _preset(where, inner, value)
-    if kind == "mindlin" and not ({"tension", "bending"} & set(value)):
+    fabric_only = set(value) & _FABRIC_ONLY
+    if kind == "mindlin" and not ({"tension", "bending"} & set(value)) and not fabric_only:
         make = ElasticShell.orthotropic if "E1" in value else ElasticShell
         arguments = _keywords(inner, make, value)
         for key, item in arguments.items():
@@ -65,6 +80,18 @@ def _material(where: _Where, kind: str, value: Any):
                 _number(inner, item, key)
         return make(**arguments)
     _keywords(inner, Fabric, value)
+    missing = [k for k in _FABRIC_REQUIRED if k not in value]
+    if missing:
+        given = (
+            f"a Mindlin part of a fabric (it gives {', '.join(sorted(fabric_only))}) "
+            if kind == "mindlin" and fabric_only
+            else "a fabric "
+        )
+        raise inner.error(
+            None,
+            f"missing key{'s' if len(missing) > 1 else ''} {', '.join(map(repr, missing))}: "
+            f"{given}needs {', '.join(_FABRIC_REQUIRED)}",
+        )
     return Fabric(**_fabric_fields(inner, value))
 
 
@@ -74,7 +101,7 @@ def _fabric_fields(inner: _Where, value: dict) -> dict:
     for key, item in fields.items():
         if key in _LAWS and isinstance(item, dict):
             fields[key] = _law(inner.child(key), _LAWS[key], item)
-        elif key in _LAWS and not isinstance(item, int | float) or isinstance(item, bool):
+        elif key in _LAWS and (not isinstance(item, int | float) or isinstance(item, bool)):
             raise inner.error(key, f"expected a number (linear law) or a law table, got {item!r}")
         else:
             _number(inner, item, key)
@@ -126,12 +153,22 @@ def _law(where: _Where, family, value: dict):
     extra = {"tension_only": value["tension_only"]} if "tension_only" in value else {}
     if extra and family is not TensionLaw:
         raise where.error("tension_only", "only tension laws can be tension-only")
+    if extra and not isinstance(extra["tension_only"], bool):
+        raise where.error("tension_only", f"expected true or false, got {extra['tension_only']!r}")
     if not hasattr(family, form):
         raise where.error(form, f"{family.__name__} has no {form} form")
-    if form == "linear":
-        return family.linear(_number(where, value["linear"], "linear"), **extra)
-    if form == "table":
-        table = _table(where, value["table"], "table", ("x", "y"), ("x", "y"))
-        return family.table(table["x"], table["y"], **extra)
-    names = tuple(inspect.signature(getattr(family, form)).parameters)
-    return getattr(family, form)(**_table(where, value[form], form, names), **extra)
+    try:  # the law's own refusal, named by the key and the table it is in
+        if form == "linear":
+            return family.linear(_number(where, value["linear"], "linear"), **extra)
+        if form == "table":
+            table = _table(where, value["table"], "table", ("x", "y"), ("x", "y"))
+            return family.table(table["x"], table["y"], **extra)
+        parameters = inspect.signature(getattr(family, form)).parameters
+        names = tuple(parameters)
+        required = tuple(n for n, p in parameters.items() if p.default is inspect.Parameter.empty)
+        arguments = _table(where, value[form], form, names, required)
+        return getattr(family, form)(**arguments, **extra)
+    except CaseError:
+        raise
+    except ValueError as error:
+        raise where.error(form, str(error)) from None

@@ -115,7 +115,8 @@ class ElasticShell:
         E1, E2 : float
             Young's moduli along 1 and 2, MPa, > 0.
         nu12 : float
-            Major Poisson's ratio (nu21 = nu12 E2 / E1), in (-1, 0.5), with nu12 nu21 < 1.
+            Major Poisson's ratio (nu21 = nu12 E2 / E1), with nu12 nu21 = nu12^2 E2 / E1 < 1
+            (the lamina's positive definiteness; not the isotropic bound (-1, 0.5)).
         G12, G13, G23 : float
             In-plane and transverse shear moduli, MPa, > 0.
         thickness : float
@@ -140,10 +141,17 @@ class ElasticShell:
         E1 = check_positive(E1, "ElasticShell E1", "MPa")
         E2 = check_positive(E2, "ElasticShell E2", "MPa")
         G12 = check_positive(G12, "ElasticShell G12", "MPa")
-        nu12 = _poisson(nu12, "ElasticShell nu12")
+        # The lamina's plane-stress stiffness is positive definite (E1, E2, G12 > 0) iff
+        # nu12 nu21 = nu12^2 E2 / E1 < 1: |nu12| < sqrt(E1 / E2), not the isotropic (-1, 0.5)
+        # (E1 = 10000, E2 = 1000, nu12 = 0.6 is a valid lamina).
+        nu12 = as_number(nu12, "ElasticShell nu12", "a number with nu12^2 E2 / E1 < 1")
         nu21 = nu12 * E2 / E1
-        if nu12 * nu21 >= 1:
-            raise ValueError(f"ElasticShell: nu12^2 E2/E1 must be < 1, got {nu12 * nu21:.4g}")
+        if not nu12 * nu21 < 1:
+            raise ValueError(
+                f"ElasticShell nu12: the lamina is positive definite when nu12 nu21 = nu12^2 "
+                f"E2 / E1 < 1, i.e. |nu12| < sqrt(E1 / E2) = {np.sqrt(E1 / E2):.4g}; got "
+                f"nu12 = {nu12!r}, nu12^2 E2 / E1 = {nu12 * nu21:.4g}"
+            )
         d = 1 - nu12 * nu21
         q = np.array([[E1 / d, nu12 * E2 / d, 0], [nu12 * E2 / d, E2 / d, 0], [0, 0, G12]])
         axis = as_reals(warp, "ElasticShell warp", "a non-zero 3-vector").ravel()

@@ -34,11 +34,41 @@ def _finite(value: Any, name: str) -> float:
     return number
 
 
+#: How far (relative to the table's largest |x| or |y|) a table given over both signs of an
+#: odd law may be from odd: round-off of values typed or computed as -y(x), no more.
+ODD_TOLERANCE = 1e-9
+
+
+def _check_odd(x: np.ndarray, y: np.ndarray, what: str) -> None:
+    """Refuse a table of an odd law given over both signs that is not odd: its range not
+    symmetric, or y(-x_k) != -y_k at a knot x_k (within ODD_TOLERANCE). Such a law would
+    make the answer depend on the sign convention of the strain (for the shell's shear angle
+    and curvature, on the cells' winding and the fibres' orientation)."""
+    scale_x, scale_y = float(np.abs(x).max()), float(np.abs(y).max())
+    mirrored = -np.interp(-x, x, y)
+    if abs(x[0] + x[-1]) > ODD_TOLERANCE * scale_x or np.any(
+        np.abs(mirrored - y) > ODD_TOLERANCE * scale_y
+    ):
+        raise ValueError(
+            f"{what} table given over both signs is not odd (y(-x) = -y(x) within "
+            f"{ODD_TOLERANCE:g} of the largest |x| and |y|; got x from {x[0]} to {x[-1]}, "
+            f"y {y}): the law is odd in its strain, whose sign is a convention (the cells' "
+            f"winding, the fibres' orientation); give the table for x >= 0 only, it is "
+            f"mirrored to x < 0"
+        )
+
+
 def _table(x: ArrayLike, y: ArrayLike, what: str, odd: bool) -> tuple[np.ndarray, np.ndarray]:
     """Validated knots of a piecewise-linear law; with ``odd`` a table given for x >= 0 is
-    mirrored to negative x."""
-    x = as_reals(x, f"{what} table abscissae", "a sequence of numbers").ravel()
-    y = as_reals(y, f"{what} table values", "a sequence of numbers").ravel()
+    mirrored to negative x, and one given over both signs must be odd (``_check_odd``)."""
+    x = as_reals(x, f"{what} table abscissae", "a sequence of numbers")
+    y = as_reals(y, f"{what} table values", "a sequence of numbers")
+    if x.ndim > 1 or y.ndim > 1:  # a nested list is a typo, not a table to flatten
+        raise ValueError(
+            f"{what} table needs two flat sequences of numbers, got arrays of shapes "
+            f"{x.shape} and {y.shape}"
+        )
+    x, y = x.ravel(), y.ravel()
     if x.size != y.size or x.size < 2:
         raise ValueError(
             f"{what} table needs two sequences of equal length >= 2, got {x.size} and {y.size}"
@@ -58,6 +88,8 @@ def _table(x: ArrayLike, y: ArrayLike, what: str, odd: bool) -> tuple[np.ndarray
         y = np.concatenate((-y[:0:-1], y))
     if not x[0] <= 0.0 <= x[-1]:
         raise ValueError(f"{what} table must span 0 (from {x[0]} to {x[-1]})")
+    if odd:
+        _check_odd(x, y, what)
     at_zero = float(np.interp(0.0, x, y))
     if abs(at_zero) > 1e-12 * max(1.0, float(np.abs(y).max())):
         raise ValueError(f"{what} table must give 0 at 0 (no stress in the reference state)")
@@ -400,7 +432,8 @@ class ShearLaw:
         ----------
         gamma : array_like, shape (k,)
             Shear angles, rad, strictly increasing; given for gamma >= 0 they are mirrored to
-            negative angles (or give them over both signs).
+            negative angles (or give them over both signs: then an odd table, the same
+            range and y(-x) = -y(x) within ``ODD_TOLERANCE``).
         moment : array_like, shape (k,)
             Shear moments M_s, N/mm, non-decreasing.
 
@@ -412,13 +445,18 @@ class ShearLaw:
         Raises
         ------
         ValueError
-            Invalid tables, as :meth:`TensionLaw.table`.
+            Invalid tables, as :meth:`TensionLaw.table`; a table over both signs that is
+            not odd; an angle of pi/2 or more (degrees given for radians).
         """
-        return Law(
-            "ShearLaw",
-            f"ShearLaw.table({np.size(gamma)} points)",
-            knots=_table(gamma, moment, "ShearLaw", odd=True),
-        )
+        knots = _table(gamma, moment, "ShearLaw", odd=True)
+        largest = float(np.abs(knots[0]).max())
+        if largest >= 0.5 * np.pi:  # fibres at 90 deg to each other lie flat on each other
+            raise ValueError(
+                f"ShearLaw table: shear angles are in radians and below pi/2 (90 deg: the "
+                f"fibres would lie flat on each other), got up to {largest:g}: degrees? give "
+                f"them in radians (x pi / 180)"
+            )
+        return Law("ShearLaw", f"ShearLaw.table({np.size(gamma)} points)", knots=knots)
 
 
 class BendingLaw:
@@ -495,7 +533,8 @@ class BendingLaw:
         ----------
         curvature : array_like, shape (k,)
             Curvatures chi, 1/mm, strictly increasing; given for chi >= 0 they are mirrored to
-            negative curvature (or give them over both signs).
+            negative curvature (or give them over both signs: then an odd table, the same
+            range and y(-x) = -y(x) within ``ODD_TOLERANCE``).
         moment : array_like, shape (k,)
             Bending moments M, N (N mm/mm), non-decreasing.
 
@@ -507,7 +546,8 @@ class BendingLaw:
         Raises
         ------
         ValueError
-            Invalid tables, as :meth:`TensionLaw.table`.
+            Invalid tables, as :meth:`TensionLaw.table`; a table over both signs that is
+            not odd.
         """
         return Law(
             "BendingLaw",

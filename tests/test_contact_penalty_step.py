@@ -107,7 +107,7 @@ def test_the_plies_penalty_does_not_follow_the_rotary_inertia(monkeypatch):
     def stiffness(mode):
         with monkeypatch.context() as patch:
             patch.setattr(mindlin, "rotary_mode", lambda value: mode)
-            layup = Layup(PLY, (0.0, 90.0), 50.0, cells=2, kinematics="mindlin")
+            layup = Layup(PLY, (0.0, 90.0), 50.0, cells=2, kinematics="mindlin-elastic")
             model = layup.model()
             bottom = layup.heights[0] - 0.5 * PLY.thickness
             model.contact(RigidPlane((0, 0, bottom), (0, 0, 1.0)), "ply_1")

@@ -237,7 +237,7 @@ def test_the_mindlin_ply_has_the_transverse_shear_of_an_s3_homogeneous_section()
     not a softer transverse shear than the comparison's element would have."""
     b0, h = 0.375, study.THICKNESS
     for warp in ((1.0, 0.0, 0.0), (np.sqrt(0.5), np.sqrt(0.5), 0.0)):
-        section = ply_element("mindlin", FABRIC, np.array(warp)).material
+        section = ply_element("mindlin-elastic", FABRIC, np.array(warp)).material
         stiffness = np.asarray(section.transverse) * h  # transverse = kappa (G13, G23)
         assert section.shear_factor == pytest.approx(5.0 / 6.0, rel=1e-15)
         g13 = np.asarray(section.transverse) / section.shear_factor

@@ -322,7 +322,7 @@ def test_a_table_law_s_energy_in_the_loops_is_the_law_s_own_to_the_last_bit_with
 
     laws = [
         BendingLaw.bilinear(7.5, 0.5, 1e-3),
-        ShearLaw.table([-0.3, 0.0, 0.5, 1.0], [-0.4, 0.0, 1.0, 3.0]),
+        ShearLaw.table([-1.0, -0.5, 0.0, 0.5, 1.0], [-3.0, -1.0, 0.0, 1.0, 3.0]),
         BendingLaw.bilinear(2.0, 0.5, 2e-3),
     ]
     integers, reals = pack_laws(laws)

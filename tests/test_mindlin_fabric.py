@@ -124,3 +124,17 @@ def test_the_defaults_are_stated_and_the_options_checked():
         MindlinShell(ElasticShell(1000.0, 0.3, 1.0, 1e-9), twisting=1.0)
     with pytest.raises(ValueError, match="ElasticShell or a materials.Fabric"):
         MindlinShell("g986")
+
+
+def test_a_bending_law_with_a_toe_needs_the_sections_stated_stiffnesses():
+    """A bending table flat up to 1e-4 1/mm has B0 = 0: the defaults S = 5 B0 / h^2 and D_t =
+    B0 / 2 (docs/theory.md §5.7) would be 0, a mechanism, as an explicit 0 is refused. The
+    shell is refused until both are given; given, they are the shell's."""
+    toe = BendingLaw.table([0.0, 1e-4, 1e-2], [0.0, 0.0, 0.0743])
+    fabric = Fabric(thickness=0.3, areal_density=2.85e-10, tension=1200.0, shear=0.2, bending=toe)
+    with pytest.raises(ValueError, match=r"zero slope.*give transverse_shear .* and twisting"):
+        MindlinShell(fabric)
+    with pytest.raises(ValueError, match="default twisting"):
+        MindlinShell(fabric, transverse_shear=416.7)
+    shell = MindlinShell(fabric, transverse_shear=416.7, twisting=3.75)
+    assert (shell.transverse_shear, shell.twisting) == (416.7, 3.75)

@@ -107,7 +107,7 @@ def _stack(angles, kinematics, penalty, tool_penalty, shift=0.0):
     return compiled, state
 
 
-@pytest.mark.parametrize("kinematics", ["mindlin", "fibrous"])
+@pytest.mark.parametrize("kinematics", ["mindlin-elastic", "fibrous"])
 @pytest.mark.parametrize("angles", [(0.0, 90.0), (0.0, 45.0)], ids=["0-90", "0-45"])
 def test_a_pressed_ply_stack_between_two_tools(angles, kinematics):
     """Every node of the stack in three interactions at once (the die or the holder, and the
@@ -121,7 +121,7 @@ def test_a_pressed_ply_stack_between_two_tools(angles, kinematics):
     assert 0.35 * exact < step <= exact
 
 
-@pytest.mark.parametrize("kinematics", ["mindlin", "fibrous"])
+@pytest.mark.parametrize("kinematics", ["mindlin-elastic", "fibrous"])
 def test_a_stack_with_points_in_the_fade_band(kinematics):
     """[0/0] plies, the top one moved 18 mm along x: its points over the bottom ply's outline
     strip are in the fade's band (``springs_at`` takes their c_p > 12). The step stays at most

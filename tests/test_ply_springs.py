@@ -59,7 +59,7 @@ def _stack(angles, sink=SINK, cells=3, width=20.0):
     1000 N/mm, the top ply moved ``sink`` mm into the bottom one (< 0: apart). Returns
     (compiled, state0, top ply's nodes)."""
     layup = Layup(
-        PLY, angles, width, cells=cells, kinematics="mindlin", rule="gauss",
+        PLY, angles, width, cells=cells, kinematics="mindlin-elastic", rule="gauss",
         lower_rule="vertices", penalty=1000.0,
     )  # fmt: skip
     compiled = layup.model().compile()

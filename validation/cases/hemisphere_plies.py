@@ -15,7 +15,9 @@ radius 5 mm); a ring-shaped blank holder of 10 g on the flange, free to rise, pr
 whichever ply is under it). Ply on ply Coulomb friction 0.2 (elements/ply_contact.py,
 both ways: the top ply's Gauss points and the bottom ply's nodes; docs/theory.md §9.3b), the
 tools frictionless. Fabric: a G986-like ply (tension 60 N/mm, shear 0.2 N/mm, bending 0.375
-N mm, 285 g/m^2); the Mindlin ply its calibration (``ElasticShell.equivalent``) on B2's
+N mm, 285 g/m^2); the Mindlin ply its equivalent elastic section (``ElasticShell.equivalent``,
+the laws' initial slopes: ``Layup`` kinematics "mindlin-elastic", not the fabric's own laws
+of "mindlin"; the tolerances below were measured on it) on B2's
 closed-form rotary inertia (docs/theory.md §6.2; setup's ROTARY_SCALING lists no layup for the
 element rule: on [0/90] it reached the quasi-static answer slowed x8 where the closed form
 does slowed x2, docs/hemisphere_forming.md "The penalty at the closed j's step, the element

@@ -10,11 +10,12 @@ from functools import partial
 
 import numpy as np
 
-from elements import MindlinShell, RigidSphere, RigidSurface
+from elements import RigidSphere, RigidSurface
 from elements.dashpot import Dashpot, critical_damping
-from elements.layup import Layup
+from elements.layup import Layup, ply_element
 from femcore import Mesh, Model
-from materials import ElasticShell, Fabric
+from femcore.element import ElementType
+from materials import Fabric
 from validation.specimens import hemisphere_die, holder_ring
 
 __all__ = [
@@ -119,8 +120,9 @@ NET_CELL = 1.0  # mm
 
 
 def mindlin_ply(rotary_scaling: bool | str = True):
-    """A Mindlin ply's element factory (fabric, warp) -> MindlinShell, as
-    ``elements.layup.ply_element``'s, with the rotary inertia ``rotary_scaling``
+    """A Mindlin ply's element factory (fabric, warp) -> MindlinShell of the fabric's
+    equivalent elastic section, as ``elements.layup.ply_element("mindlin-elastic", ...)``'s
+    (not the fabric's own laws, "mindlin"), with the rotary inertia ``rotary_scaling``
     (docs/theory.md §6.2 B2: True the closed form, "element" that held to the membrane's
     step). A partial of a module's function, not a closure: the layup that keeps it is
     pickled when the report runs the case's runs in worker processes."""
@@ -129,10 +131,10 @@ def mindlin_ply(rotary_scaling: bool | str = True):
 
 def _mindlin_ply(
     fabric: Fabric, warp: np.ndarray, rotary_scaling: bool | str = True
-) -> MindlinShell:
-    """A Mindlin ply of ``fabric`` with its warp along ``warp`` (``mindlin_ply``)."""
-    section = ElasticShell.equivalent(fabric, warp=warp)
-    return MindlinShell(section, rotary_scaling=rotary_scaling)
+) -> ElementType:
+    """A Mindlin ply of ``fabric``'s equivalent elastic section with its warp along ``warp``
+    (``mindlin_ply``)."""
+    return ply_element("mindlin-elastic", fabric, warp, rotary_scaling=rotary_scaling)
 
 
 def _holder_amplitude(tau):
