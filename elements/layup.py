@@ -1,6 +1,6 @@
 """A layup: plies of one fabric laid at different angles on a rectangular blank, each its own
 mesh along its own fibres and its own shell, with ply-to-ply contact and Coulomb friction
-between neighbours (docs/theory.md §9.3b).
+between every ply and the plies below it (docs/theory.md §9.3b).
 
 Each ply k (1 = bottom) is ``femcore.blank.ply_blank`` at its angle a_k: a mesh of right
 triangles along its warp w_k = (cos a_k, sin a_k, 0) and weft, whole cells inside the blank
@@ -29,7 +29,7 @@ import numpy as np
 from elements.fibrous import FibrousShell
 from elements.fibrous.fibres import fibre_ordering, shear_orientation
 from elements.mindlin import MindlinShell
-from elements.ply_contact import PlyContact, join_neighbours
+from elements.ply_contact import PAIRS, PlyContact, join_plies
 from femcore.blank import ply_blank, ply_directions
 from femcore.element import ElementType
 from femcore.mesh import Mesh
@@ -109,6 +109,11 @@ class Layup:
         pass, the lower ply's points at that rule against the upper ply's face
         (elements/ply_contact.py, "Both ways"; "vertices": the lower ply's nodes); None
         (default): one pass, the upper ply's points alone.
+    pairs : str
+        Which plies touch, ``elements.ply_contact.PAIRS``: "all" (default), every ply on every
+        ply below it (a pair that are not neighbours acts where the plies between them have
+        left: a middle ply drawn out of the stack); "neighbours", ply k + 1 on ply k alone
+        (``elements.ply_contact.join_plies``).
 
     Attributes
     ----------
@@ -155,6 +160,7 @@ class Layup:
         faces: str | None = None,
         surface: str = "flat",
         lower_rule: str | None = None,
+        pairs: str = "all",
     ):
         if not isinstance(fabric, Fabric):
             raise ValueError(f"Layup needs a materials.Fabric (one ply), got {fabric!r}")
@@ -188,6 +194,9 @@ class Layup:
         if lower_rule is not None:
             PlyContact("ply_2", "ply_1", rule=lower_rule, points="lower")
         self.lower_rule = lower_rule
+        if pairs not in PAIRS:
+            raise ValueError(f"pairs must be one of {PAIRS}, got {pairs!r}")
+        self.pairs = pairs
         self.penalty, self.rule, self.smoothing, self.faces = penalty, rule, smoothing, faces
         self.surface = surface
         self.friction = float(friction)
@@ -244,16 +253,18 @@ class Layup:
         """A Model of the layup: ply k's shell on triangle set "ply_k" (element block k - 1)
         and a ``PlyContact`` of ply k + 1 on ply k (interactions 0..N-2, offsets h / 2,
         friction mu; with ``lower_rule`` each followed by its mirrored pass, interactions
-        0..2N-3, the pass of ply k + 1's points at 2k - 2). Supports, loads and tools are
-        the caller's."""
+        0..2N-3, the pass of ply k + 1's points at 2k - 2), then with ``pairs="all"`` those
+        of every ply on the plies below its neighbour (``elements.ply_contact.join_plies``).
+        Supports, loads and tools are the caller's."""
         model = Model(self.mesh)
         for k in range(1, self.count + 1):
             model.add(self.element(k), cells=f"ply_{k}")
         half = 0.5 * self.fabric.thickness
-        join_neighbours(
+        join_plies(
             model,
             self.count,
             half,
+            pairs=self.pairs,
             penalty=self.penalty,
             rule=self.rule,
             smoothing=self.smoothing,

@@ -85,23 +85,30 @@ def layup_summary(layup: Layup, reference: np.ndarray, frame: Frame) -> dict[str
 def ply_crossings(
     layup: Layup, reference: np.ndarray, positions: np.ndarray
 ) -> dict[str, dict[str, Any]]:
-    """Per upper ply "ply_k" (k >= 2): the nodes of ply k past ply k - 1's mid-surface and
-    those of ply k - 1 past ply k's at ``positions`` (elements/ply_crossing.py), {nodes: how
-    many, deepest_mm: the deepest past it, 0 for none, first: up to ten node ids}: where the
-    plies have passed through each other, which the contact's fields do not show."""
+    """Per pair of plies, the nodes of the upper ply past the lower ply's mid-surface and those
+    of the lower ply past the upper ply's at ``positions`` (elements/ply_crossing.py), {lower:
+    the lower ply's name, nodes: how many, deepest_mm: the deepest past it, 0 for none, first:
+    up to ten node ids}: where the plies have passed through each other, which the contact's
+    fields do not show. Every pair is judged, as every ply touches every ply below it
+    (elements/ply_contact.py ``join_plies``): a neighbour pair under the upper ply's name
+    "ply_k" (k >= 2, on ply k - 1), the others as "ply_k_on_ply_j" (j < k - 1), where a ply
+    drawn out from between them left them facing each other."""
     triangles = layup.mesh.triangles
     out = {}
-    for k in range(1, layup.count):
-        lower, upper = layup.ply_nodes[k - 1], layup.ply_nodes[k]
+    pairs = [(k, k - 1) for k in range(2, layup.count + 1)]
+    pairs += [(k, j) for k in range(3, layup.count + 1) for j in range(k - 2, 0, -1)]
+    for k, j in pairs:
+        lower, upper = layup.ply_nodes[j - 1], layup.ply_nodes[k - 1]
         down, down_depth = crossed_nodes(
-            reference, positions, upper, triangles[layup.ply_cells[k - 1]], 1.0
+            reference, positions, upper, triangles[layup.ply_cells[j - 1]], 1.0
         )
         up, up_depth = crossed_nodes(
-            reference, positions, lower, triangles[layup.ply_cells[k]], -1.0
+            reference, positions, lower, triangles[layup.ply_cells[k - 1]], -1.0
         )
         ids = np.concatenate([down, up])
         depth = np.concatenate([down_depth, up_depth])
-        out[f"ply_{k + 1}"] = {
+        out[f"ply_{k}" if j == k - 1 else f"ply_{k}_on_ply_{j}"] = {
+            "lower": f"ply_{j}",
             "nodes": int(ids.size),
             "deepest_mm": float(depth.max(initial=0.0)),
             "first": [int(i) for i in ids[np.argsort(-depth)][:10]],

@@ -453,7 +453,8 @@ def _say_crossings(crossed: dict[str, dict[str, Any]], lower_rule: str | None) -
     if not through:
         return
     said = "; ".join(
-        f"{c['nodes']} nodes of {ply} and the ply below passed each other's mid-surface, the "
+        f"{c['nodes']} nodes of {ply.split('_on_')[0]} and {c.get('lower', 'the ply below')} "
+        "passed each other's mid-surface, the "
         f"deepest by {c['deepest_mm']:.3g} mm (nodes {', '.join(map(str, c['first'][:5]))})"
         for ply, c in through.items()
     )
