@@ -99,7 +99,8 @@ class Layup:
     faces : str, optional
         Of every ``PlyContact``: "director" or "normal"; None: "normal" for fibrous plies
         (their directors tilt freely, elements/ply_contact.py "Faces along the normal"),
-        "director" otherwise.
+        "director" otherwise, judged from the shell ``kinematics`` builds (a factory's
+        ``FibrousShell`` plies get "normal" too).
     surface : str
         Of every ``PlyContact``: "flat" (default) or "curved", the lower ply's face as the
         curved surface over its nodal normals (elements/ply_surface.py; the choice for plies
@@ -180,7 +181,10 @@ class Layup:
         self.kinematics = kinematics
         # the contact's options checked here, at the API boundary
         if faces is None:  # a fibrous ply's director tilts freely: its faces along the normal
-            faces = "normal" if kinematics == "fibrous" else "director"
+            # (decided from the shell the plies are, not from how it is named: a factory's
+            # fibrous plies too, else their faces follow the directors, a zero-energy path)
+            built = self.element_of(ply_directions(0.0)[0])
+            faces = "normal" if isinstance(built, FibrousShell) else "director"
         PlyContact(
             "ply_2",
             "ply_1",
@@ -245,9 +249,13 @@ class Layup:
 
     def element(self, k: int) -> ElementType:
         """The shell of ply ``k`` (1-based)."""
+        return self.element_of(self.warps[k - 1])
+
+    def element_of(self, warp: np.ndarray) -> ElementType:
+        """The shell of a ply of unit warp ``warp`` (3,): ``ply_element``'s or the factory's."""
         if isinstance(self.kinematics, str):
-            return ply_element(self.kinematics, self.fabric, self.warps[k - 1])
-        return self.kinematics(self.fabric, self.warps[k - 1])
+            return ply_element(self.kinematics, self.fabric, warp)
+        return self.kinematics(self.fabric, warp)
 
     def model(self) -> Model:
         """A Model of the layup: ply k's shell on triangle set "ply_k" (element block k - 1)
