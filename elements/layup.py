@@ -21,6 +21,7 @@ plies here are whole fabrics with meshes of their own that do not match from ply
 from __future__ import annotations
 
 import math
+import warnings
 from collections.abc import Callable, Sequence
 from typing import Any
 
@@ -29,7 +30,7 @@ import numpy as np
 from elements.fibrous import FibrousShell
 from elements.fibrous.fibres import fibre_ordering, shear_orientation
 from elements.mindlin import MindlinShell
-from elements.ply_contact import PAIRS, PlyContact, join_plies
+from elements.ply_contact import PAIRS, RULES, PlyContact, join_plies
 from femcore.blank import ply_blank, ply_directions
 from femcore.element import ElementType
 from femcore.mesh import Mesh
@@ -42,6 +43,9 @@ __all__ = ["KINEMATICS", "Layup", "ply_element", "ply_shear"]
 KINEMATICS = ("fibrous", "mindlin")
 #: More plies than this is a typo rather than a preform.
 MAX_PLIES = 200
+#: Ply angles all within +-pi/2 (and a little: pi/2 rounded up to 1.5708), not all zero and
+#: not all whole degrees, look like radians: warned.
+RADIANS = 0.5 * math.pi + 1e-4
 
 
 def ply_element(kinematics: str, fabric: Fabric, warp: np.ndarray) -> ElementType:
@@ -55,6 +59,10 @@ def ply_element(kinematics: str, fabric: Fabric, warp: np.ndarray) -> ElementTyp
 
 
 def _angles(angles: Any) -> tuple[float, ...]:
+    """The ply angles as floats, degrees: any 1-D sequence of numbers (a list, a tuple, a
+    1-D numpy array); a warning where they look like radians (``RADIANS``)."""
+    if isinstance(angles, np.ndarray) and angles.ndim == 1:
+        angles = angles.tolist()
     if isinstance(angles, (str, bytes)) or not isinstance(angles, Sequence):
         raise ValueError(
             f"angles must be a sequence of ply angles in degrees, bottom ply first, e.g. "
@@ -69,6 +77,19 @@ def _angles(angles: Any) -> tuple[float, ...]:
         if not math.isfinite(angle):
             raise ValueError(f"ply {k + 1}: the angle must be finite, got {angle!r}")
         out.append(float(angle))
+    magnitudes = np.abs(out)
+    if (
+        np.all(magnitudes <= RADIANS)
+        and np.any(magnitudes > 0.0)
+        and np.any(magnitudes != np.round(magnitudes))
+    ):
+        warnings.warn(
+            f"ply angles {tuple(out)}: radians? angles are in degrees (every one within "
+            f"+-{RADIANS:.4g}, not all zero and not whole numbers: +-pi/2 written in "
+            "radians); write (0, 90), not (0, pi / 2)",
+            UserWarning,
+            stacklevel=3,
+        )
     return tuple(out)
 
 
@@ -141,7 +162,8 @@ class Layup:
     Warns
     -----
     UserWarning
-        A ply at an angle whose blank has a staircase outline (``ply_blank``).
+        A ply at an angle whose blank has a staircase outline (``ply_blank``); angles that
+        look like radians (``RADIANS``).
     """
 
     def __init__(
@@ -196,6 +218,10 @@ class Layup:
             surface=surface,
         )
         if lower_rule is not None:
+            if lower_rule not in RULES:  # (PlyContact's message names its own "rule")
+                raise ValueError(
+                    f"lower_rule must be None or one of {sorted(RULES)}, got {lower_rule!r}"
+                )
             PlyContact("ply_2", "ply_1", rule=lower_rule, points="lower")
         self.lower_rule = lower_rule
         if pairs not in PAIRS:

@@ -108,7 +108,7 @@ def test_a_layup_without_a_lower_rule_keeps_one_pass_per_interface():
 def test_unknown_points_and_lower_rules_are_refused_with_the_choices():
     with pytest.raises(ValueError, match="points must be one of .*'upper', 'lower'.*'middle'"):
         PlyContact("ply_2", "ply_1", points="middle")
-    with pytest.raises(ValueError, match="rule must be one of .*'edges'"):
+    with pytest.raises(ValueError, match="lower_rule must be None or one of .*'edges'"):
         Layup(PLY, (0.0, 90.0), 40.0, cells=2, lower_rule="edges")
 
 
