@@ -1,5 +1,5 @@
 """A run's ply contacts that gave way under their pressure (fibreshell/layup_summary.py
-``ply_penetrations``, fibreshell/run.py ``_say_penetrations``): past a tenth of the ply
+``ply_penetrations``, fibreshell/run.py ``_say_penetrations``): past a quarter of the ply
 thickness the summary holds the penetration and the penalty that would keep it within that
 share, and the run warns naming it (a crossing's advice is then the penalty, not the
 mirrored pass that does not help a contact that gives way)."""
