@@ -126,14 +126,16 @@ def describe_cycles(model: Any, positions: np.ndarray | None = None) -> str:
     )
 
 
-#: Said where a solve with friction stopped in its first increment: surfaces laid on each other
-#: with no pressure have no stick stiffness there (a ply contact's stick spring, the normal
-#: law's W''(g), is 0 at zero penetration; docs/theory.md §9.3a), so that a body held by
-#: friction alone is free in its plane at Newton's first iterate, and a load along it runs off.
+#: Said where a solve with friction stopped in its first increment (after its retry with stiff
+#: stick springs first, solvers/stick_start.py): a body held by friction alone has a static
+#: equilibrium only while its pull stays within mu times its press (Coulomb: it slides
+#: otherwise), and pressing it first is the way to that equilibrium that takes the contact's
+#: events one at a time.
 FRICTION_AT_START = (
-    "; a body held by friction alone has no stick stiffness in the first increment where its "
-    "surfaces start touching with no pressure: press it first, then pull it (the pressing "
-    "loads at amplitude 'step' and Static(step_loads_first=True))"
+    "; a body held by friction alone has no static equilibrium where its pull passes mu "
+    "times its press (it slides: DynamicRelaxation or an explicit run); below it, press it "
+    "first, then pull it (the pressing loads at amplitude 'step' and "
+    "Static(step_loads_first=True))"
 )
 
 
