@@ -166,14 +166,16 @@ def ply_penetrations(
     out = {}
     for (k, j), (_, name) in zip(_contact_pairs(layup), gaps):
         gap = np.asarray(point_fields[name], dtype=float)
-        depth = np.where(np.isfinite(gap), -gap, 0.0)
+        forces = np.asarray(point_fields[name.replace("ply_gap", "ply_contact_force")])
+        # a node pressed by the contact: its gap is a penetration (beside the lower ply's
+        # outline a gap is the distance to its edge, with no force)
+        depth = np.where(np.isfinite(gap) & (forces > 0.0), -gap, 0.0)
         over = np.flatnonzero(depth > limit)
         if over.size == 0:
             continue
         deepest = over[np.argmax(depth[over])]
-        forces = point_fields.get(name.replace("ply_gap", "ply_contact_force"))
         pressed = np.flatnonzero(depth > 0.0)
-        force = 0.0 if forces is None else float(np.sum(np.asarray(forces)[pressed]))
+        force = float(np.sum(forces[pressed]))
         # a uniform penalty k per upper node gives the pressed nodes a mean depth F / (n k);
         # the deepest lies deeper than the mean by their ratio here, and by more as the
         # plies' bending shares the load out unevenly: PENALTY_MARGIN

@@ -74,3 +74,14 @@ def test_the_warning_names_the_penalty_and_the_crossing_advice_follows_it():
     with warnings.catch_warnings():
         warnings.simplefilter("error")
         _say_penetrations({})
+
+
+def test_a_ply_beside_the_other_is_not_taken_for_a_penetration():
+    """Beside the lower ply's outline the gap field is the distance to its edge (negative
+    below its plane), with no contact force: not a penetration."""
+    layup = Layup(PLY, (0.0, 90.0), SIDE, cells=2)
+    n = layup.mesh.n_nodes
+    gap = np.full(n, np.nan)
+    gap[layup.ply_nodes[1]] = -25.0
+    fields = {"ply_gap": gap, "ply_contact_force": np.zeros(n)}
+    assert ply_penetrations(layup, fields) == {}
