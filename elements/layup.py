@@ -1,6 +1,6 @@
 """A layup: plies of one fabric laid at different angles on a rectangular blank, each its own
 mesh along its own fibres and its own shell, with ply-to-ply contact and Coulomb friction
-between neighbours (docs/theory.md §9.3b).
+between every ply and the plies below it (docs/theory.md §9.3b).
 
 Each ply k (1 = bottom) is ``femcore.blank.ply_blank`` at its angle a_k: a mesh of right
 triangles along its warp w_k = (cos a_k, sin a_k, 0) and weft, whole cells inside the blank
@@ -23,6 +23,7 @@ plies here are whole fabrics with meshes of their own that do not match from ply
 from __future__ import annotations
 
 import math
+import warnings
 from collections.abc import Callable, Sequence
 from typing import Any
 
@@ -31,7 +32,7 @@ import numpy as np
 from elements.fibrous import FibrousShell
 from elements.fibrous.fibres import fibre_ordering, shear_orientation
 from elements.mindlin import MindlinShell
-from elements.ply_contact import PlyContact, join_neighbours
+from elements.ply_contact import PAIRS, RULES, PlyContact, join_plies
 from femcore.blank import ply_blank, ply_directions
 from femcore.element import ElementType
 from femcore.mesh import Mesh
@@ -44,6 +45,9 @@ __all__ = ["KINEMATICS", "Layup", "ply_element", "ply_shear"]
 KINEMATICS = ("fibrous", "mindlin", "mindlin-elastic")
 #: More plies than this is a typo rather than a preform.
 MAX_PLIES = 200
+#: Ply angles all within +-pi/2 (and a little: pi/2 rounded up to 1.5708), not all zero and
+#: not all whole degrees, look like radians: warned.
+RADIANS = 0.5 * math.pi + 1e-4
 
 
 def ply_element(kinematics: str, fabric: Fabric, warp: np.ndarray, **options: Any) -> ElementType:
@@ -64,6 +68,10 @@ def ply_element(kinematics: str, fabric: Fabric, warp: np.ndarray, **options: An
 
 
 def _angles(angles: Any) -> tuple[float, ...]:
+    """The ply angles as floats, degrees: any 1-D sequence of numbers (a list, a tuple, a
+    1-D numpy array); a warning where they look like radians (``RADIANS``)."""
+    if isinstance(angles, np.ndarray) and angles.ndim == 1:
+        angles = angles.tolist()
     if isinstance(angles, (str, bytes)) or not isinstance(angles, Sequence):
         raise ValueError(
             f"angles must be a sequence of ply angles in degrees, bottom ply first, e.g. "
@@ -78,6 +86,19 @@ def _angles(angles: Any) -> tuple[float, ...]:
         if not math.isfinite(angle):
             raise ValueError(f"ply {k + 1}: the angle must be finite, got {angle!r}")
         out.append(float(angle))
+    magnitudes = np.abs(out)
+    if (
+        np.all(magnitudes <= RADIANS)
+        and np.any(magnitudes > 0.0)
+        and np.any(magnitudes != np.round(magnitudes))
+    ):
+        warnings.warn(
+            f"ply angles {tuple(out)}: radians? angles are in degrees (every one within "
+            f"+-{RADIANS:.4g}, not all zero and not whole numbers: +-pi/2 written in "
+            "radians); write (0, 90), not (0, pi / 2)",
+            UserWarning,
+            stacklevel=3,
+        )
     return tuple(out)
 
 
@@ -109,7 +130,8 @@ class Layup:
     faces : str, optional
         Of every ``PlyContact``: "director" or "normal"; None: "normal" for fibrous plies
         (their directors tilt freely, elements/ply_contact.py "Faces along the normal"),
-        "director" otherwise.
+        "director" otherwise, judged from the shell ``kinematics`` builds (a factory's
+        ``FibrousShell`` plies get "normal" too).
     surface : str
         Of every ``PlyContact``: "flat" (default) or "curved", the lower ply's face as the
         curved surface over its nodal normals (elements/ply_surface.py; the choice for plies
@@ -119,6 +141,11 @@ class Layup:
         pass, the lower ply's points at that rule against the upper ply's face
         (elements/ply_contact.py, "Both ways"; "vertices": the lower ply's nodes); None
         (default): one pass, the upper ply's points alone.
+    pairs : str
+        Which plies touch, ``elements.ply_contact.PAIRS``: "all" (default), every ply on every
+        ply below it (a pair that are not neighbours acts where the plies between them have
+        left: a middle ply drawn out of the stack); "neighbours", ply k + 1 on ply k alone
+        (``elements.ply_contact.join_plies``).
 
     Attributes
     ----------
@@ -145,7 +172,8 @@ class Layup:
     Warns
     -----
     UserWarning
-        A ply at an angle whose blank has a staircase outline (``ply_blank``).
+        A ply at an angle whose blank has a staircase outline (``ply_blank``); angles that
+        look like radians (``RADIANS``).
     """
 
     def __init__(
@@ -165,6 +193,7 @@ class Layup:
         faces: str | None = None,
         surface: str = "flat",
         lower_rule: str | None = None,
+        pairs: str = "all",
     ):
         if not isinstance(fabric, Fabric):
             raise ValueError(f"Layup needs a materials.Fabric (one ply), got {fabric!r}")
@@ -184,7 +213,10 @@ class Layup:
         self.kinematics = kinematics
         # the contact's options checked here, at the API boundary
         if faces is None:  # a fibrous ply's director tilts freely: its faces along the normal
-            faces = "normal" if kinematics == "fibrous" else "director"
+            # (decided from the shell the plies are, not from how it is named: a factory's
+            # fibrous plies too, else their faces follow the directors, a zero-energy path)
+            built = self.element_of(ply_directions(0.0)[0])
+            faces = "normal" if isinstance(built, FibrousShell) else "director"
         PlyContact(
             "ply_2",
             "ply_1",
@@ -196,8 +228,15 @@ class Layup:
             surface=surface,
         )
         if lower_rule is not None:
+            if lower_rule not in RULES:  # (PlyContact's message names its own "rule")
+                raise ValueError(
+                    f"lower_rule must be None or one of {sorted(RULES)}, got {lower_rule!r}"
+                )
             PlyContact("ply_2", "ply_1", rule=lower_rule, points="lower")
         self.lower_rule = lower_rule
+        if pairs not in PAIRS:
+            raise ValueError(f"pairs must be one of {PAIRS}, got {pairs!r}")
+        self.pairs = pairs
         self.penalty, self.rule, self.smoothing, self.faces = penalty, rule, smoothing, faces
         self.surface = surface
         self.friction = float(friction)
@@ -246,24 +285,30 @@ class Layup:
 
     def element(self, k: int) -> ElementType:
         """The shell of ply ``k`` (1-based)."""
+        return self.element_of(self.warps[k - 1])
+
+    def element_of(self, warp: np.ndarray) -> ElementType:
+        """The shell of a ply of unit warp ``warp`` (3,): ``ply_element``'s or the factory's."""
         if isinstance(self.kinematics, str):
-            return ply_element(self.kinematics, self.fabric, self.warps[k - 1])
-        return self.kinematics(self.fabric, self.warps[k - 1])
+            return ply_element(self.kinematics, self.fabric, warp)
+        return self.kinematics(self.fabric, warp)
 
     def model(self) -> Model:
         """A Model of the layup: ply k's shell on triangle set "ply_k" (element block k - 1)
         and a ``PlyContact`` of ply k + 1 on ply k (interactions 0..N-2, offsets h / 2,
         friction mu; with ``lower_rule`` each followed by its mirrored pass, interactions
-        0..2N-3, the pass of ply k + 1's points at 2k - 2). Supports, loads and tools are
-        the caller's."""
+        0..2N-3, the pass of ply k + 1's points at 2k - 2), then with ``pairs="all"`` those
+        of every ply on the plies below its neighbour (``elements.ply_contact.join_plies``).
+        Supports, loads and tools are the caller's."""
         model = Model(self.mesh)
         for k in range(1, self.count + 1):
             model.add(self.element(k), cells=f"ply_{k}")
         half = 0.5 * self.fabric.thickness
-        join_neighbours(
+        join_plies(
             model,
             self.count,
             half,
+            pairs=self.pairs,
             penalty=self.penalty,
             rule=self.rule,
             smoothing=self.smoothing,

@@ -282,6 +282,22 @@ class PlyContactBlock(InteractionBlock):
         finally:
             self.set_penalty(kept)
 
+    @contextmanager
+    def stiff_stick(self) -> Iterator[bool]:
+        """femcore.interaction: a frictional contact's stick spring k_p at any normal force
+        (``stick="penalty"``) inside the block where it is the normal law's W''(g), which
+        vanishes at zero penetration (plies laid on each other, not yet pressed: no stick
+        stiffness at Newton's first iterate); restored after it."""
+        if self.friction == 0.0 or self.stick == "penalty":
+            yield False
+            return
+        kept = self.stick
+        try:
+            self.stick = "penalty"
+            yield True
+        finally:
+            self.stick = kept
+
     def gaps_decide(self, history: Any) -> bool:
         """femcore.interaction: True without a history and with the sides alone
         (elements/ply_sides.py ``PlySides``, the set of the active set's ``FrozenSides``

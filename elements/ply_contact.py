@@ -155,7 +155,9 @@ __all__ = [
     "STICKS",
     "Facing",
     "PlyContact",
+    "PAIRS",
     "join_neighbours",
+    "join_plies",
     "PlyContactBlock",
     "penalty_law",
 ]
@@ -442,21 +444,49 @@ def _ids(given: Any, what: str) -> np.ndarray:
     return np.unique(array.astype(np.int64))
 
 
-def join_neighbours(
-    model: Any, count: int, half_thickness: float, lower_rule: str | None = None, **options: Any
+#: Which pairs of a stack's plies ``join_plies`` puts in contact: "all", every ply with every
+#: ply below it; "neighbours", ply k + 1 with ply k alone.
+PAIRS = ("all", "neighbours")
+
+
+def join_plies(
+    model: Any,
+    count: int,
+    half_thickness: float,
+    lower_rule: str | None = None,
+    pairs: str = "all",
+    **options: Any,
 ) -> None:
-    """Add to ``model`` a ``PlyContact`` of ply k + 1 on ply k for k = 1 .. count - 1 (the
-    triangle sets "ply_k"), both faces ``half_thickness`` (mm) from the mid-surfaces;
-    ``options`` (penalty, rule, smoothing, friction, ...) go to every one. With
-    ``lower_rule`` (a key of ``RULES``), each is followed by its mirrored pass
-    (``points="lower"``) with the lower ply's points at that rule. The stacks of
-    elements.plies and elements.layup join their plies so."""
-    for k in range(1, count):
+    """Add to ``model`` a ``PlyContact`` of ply k on ply j (the triangle sets "ply_k") for
+    every j < k ("all", default) or for j = k - 1 alone ("neighbours"), both faces
+    ``half_thickness`` (mm) from the mid-surfaces; ``options`` (penalty, rule, smoothing,
+    friction, ...) go to every one. The neighbours come first, ply 2 on ply 1 to ply N on
+    ply N - 1 (interactions 0 .. N - 2, as ``join_neighbours`` adds them), then the pairs
+    that are not neighbours, ply 3 on ply 1, ply 4 on ply 2, ply 4 on ply 1, ...: a gap of
+    the plies between them apart, positive while those plies are there, so that such a pair
+    acts only where the plies between have left (a middle ply drawn out of the stack;
+    docs/theory.md §9.3b, "Plies that are not neighbours"). With ``lower_rule`` (a key of
+    ``RULES``), each contact is followed by its mirrored pass (``points="lower"``) with the
+    lower ply's points at that rule."""
+    if pairs not in PAIRS:
+        raise ValueError(f"pairs must be one of {PAIRS}, got {pairs!r}")
+    ordered = [(k, k - 1) for k in range(2, count + 1)]
+    if pairs == "all":
+        ordered += [(k, j) for k in range(3, count + 1) for j in range(k - 2, 0, -1)]
+    for k, j in ordered:
         model.interact(
-            PlyContact(f"ply_{k + 1}", f"ply_{k}", half_thickness, half_thickness, **options)
+            PlyContact(f"ply_{k}", f"ply_{j}", half_thickness, half_thickness, **options)
         )
         if lower_rule is not None:  # the mirrored pass (module docstring, "Both ways")
             mirrored = dict(options, rule=lower_rule, points="lower")
             model.interact(
-                PlyContact(f"ply_{k + 1}", f"ply_{k}", half_thickness, half_thickness, **mirrored)
+                PlyContact(f"ply_{k}", f"ply_{j}", half_thickness, half_thickness, **mirrored)
             )
+
+
+def join_neighbours(
+    model: Any, count: int, half_thickness: float, lower_rule: str | None = None, **options: Any
+) -> None:
+    """Add to ``model`` a ``PlyContact`` of ply k + 1 on ply k for k = 1 .. count - 1 alone
+    (``join_plies`` with ``pairs="neighbours"``: plies that are not neighbours never touch)."""
+    join_plies(model, count, half_thickness, lower_rule, "neighbours", **options)

@@ -25,6 +25,8 @@ from typing import Any
 import numpy as np
 
 from elements.contact_start import OVERCLOSURE_SHARE
+from elements.ply_curved import MARGIN_CURVED
+from elements.ply_projection import MARGIN
 
 __all__ = ["CURVED_OVERCLOSURE_SHARE", "check_ply_start"]
 
@@ -61,10 +63,12 @@ def check_ply_start(block: Any, facing: Any, tolerance: float) -> None:
     Warns
     -----
     UserWarning
-        Touching points overlapping the lower ply by more than OVERCLOSURE_SHARE of a + b
+        No point facing the other ply at all (``_say_none_faces``). Touching points
+        overlapping the lower ply by more than OVERCLOSURE_SHARE of a + b
         (CURVED_OVERCLOSURE_SHARE on curved faces): how
         many, the deepest and by how much, and what to move.
     """
+    _say_none_faces(block, facing)
     on = facing.touching.copy()
     if facing.fade is not None:
         # a point past the lower ply's outline, where its weight w fades, is beside the ply,
@@ -107,3 +111,27 @@ def check_ply_start(block: Any, facing: Any, tolerance: float) -> None:
             UserWarning,
             stacklevel=3,
         )
+
+
+def _say_none_faces(block: Any, facing: Any) -> None:
+    """Warn where no contact point faces the other ply at the start: each point's projection
+    lies past the other ply's outline by more than the contact's margin (``MARGIN``, or
+    ``MARGIN_CURVED`` on curved faces; ``facing.weights`` (P, 3) its barycentric
+    coordinates there) or where the fade past the outline has put it out (``facing.fade``
+    0), so the contact acts only if the plies come to face each other (a ply laid beside the
+    other, or shifted by a typo)."""
+    overshoot = np.maximum(0.0, -facing.weights.min(axis=1))
+    faces = overshoot <= (MARGIN_CURVED if block.curved else MARGIN)
+    if facing.fade is not None:
+        faces &= facing.fade > 0.0
+    if faces.any():
+        return
+    points, faced = ("lower", "upper") if block.mirrored else ("upper", "lower")
+    warnings.warn(
+        f"no contact point of the {points} ply faces the {faced} ply at the start: all "
+        f"{len(overshoot)} lie beside its outline, so the contact acts only where the plies "
+        "come to face each other. Check where the plies are laid (a ply beside the other, or "
+        "shifted)",
+        UserWarning,
+        stacklevel=4,
+    )

@@ -414,6 +414,14 @@ class InteractionBlock(ReadOnlyState, ABC):
         history holds the penalty's past (friction anchors) or that has none."""
         yield False
 
+    @contextmanager
+    def stiff_stick(self) -> Iterator[bool]:
+        """Inside the block, the block's friction held by a stick spring that does not vanish
+        with the normal force, restored after it, even on an error; yields whether it has one
+        to stiffen (Static's retry of an increment that failed, solvers/stick_start.py:
+        Newton converges it so first, then on the block's own law). The default has none."""
+        yield False
+
     def facet_record(self) -> FacetRecord | None:
         """The facets of a meshed rigid tool the block's rows touched in its last evaluations
         (``FacetRecord``), for the static solver's stop message; None by default: no meshed

@@ -24,7 +24,7 @@ from femcore.writable import FIRST_FRAMES, OutputError, check_folder, frame_byte
 from fibreshell.case import Case
 from fibreshell.case_reading import _Where
 from fibreshell.folder_lock import folder_lock
-from fibreshell.layup_summary import layup_summary
+from fibreshell.layup_summary import PENETRATION_SHARE, layup_summary
 from fibreshell.outputs import checkpoint_collision, clean_run
 from solvers import Interrupted, SolverError
 from solvers.common import SettingError
@@ -463,20 +463,47 @@ def profile(case: Case, result: Result, name: str, thickness: float) -> dict:
     }  # fmt: skip
 
 
-def _say_crossings(crossed: dict[str, dict[str, Any]], lower_rule: str | None) -> None:
+def _say_penetrations(penetrations: dict[str, dict[str, Any]]) -> None:
+    """Warn once where a ply contact ended pressed deeper than ``PENETRATION_SHARE`` of the
+    ply thickness (fibreshell.layup_summary ``ply_penetrations``), naming the penalty that
+    would hold it."""
+    if not penetrations:
+        return
+    said = "; ".join(
+        f"{p['upper']} into {p['lower']} by up to {p['deepest_mm']:.3g} mm "
+        f"({p['share_of_thickness']:.2g} of a ply; {p['nodes']} nodes past the share), "
+        f"kept within it by [layup] penalty = {p['penalty']:.3g} N/mm or more"
+        for p in penetrations.values()
+    )
+    warnings.warn(
+        f"the plies' contact gave way: {said} (summary.json, layup.penetration; more than "
+        f"{PENETRATION_SHARE:g} of the ply thickness). The automatic penalty is the explicit "
+        "step's: under a consolidation pressure give [layup] penalty (per upper node; a "
+        "larger one shortens an explicit run's stable step)",
+        UserWarning,
+        stacklevel=2,
+    )
+
+
+def _say_crossings(
+    crossed: dict[str, dict[str, Any]], lower_rule: str | None, penetrated: bool = False
+) -> None:
     """Warn where the layup's plies ended through each other (fibreshell.layup_summary
-    ``ply_crossings``): the ply order there is lost, which the contact's fields do not show."""
+    ``ply_crossings``): the ply order there is lost, which the contact's fields do not show.
+    Where a contact also gave way under its pressure (``penetrated``) the remedy is a larger
+    penalty (``_say_penetrations``), not the mirrored pass."""
     through = {ply: c for ply, c in crossed.items() if c["nodes"]}
     if not through:
         return
     said = "; ".join(
-        f"{c['nodes']} nodes of {ply} and the ply below passed each other's mid-surface, the "
+        f"{c['nodes']} nodes of {ply.split('_on_')[0]} and {c.get('lower', 'the ply below')} "
+        "passed each other's mid-surface, the "
         f"deepest by {c['deepest_mm']:.3g} mm (nodes {', '.join(map(str, c['first'][:5]))})"
         for ply, c in through.items()
     )
     remedy = (
         'give [layup] lower_rule = "nodes" (the lower ply\'s nodes held off the upper ply too)'
-        if lower_rule is None
+        if lower_rule is None and not penetrated
         else "a larger [layup] penalty, a finer mesh where the tools are sharp, or a slower stroke"
     )
     warnings.warn(
@@ -568,7 +595,10 @@ def summarise(
         )
     if case.layup is not None:  # per ply: angle, shear, displacement, slip over the one below
         out["layup"] = layup_summary(case.layup, case.mesh.points, final)
-        _say_crossings(out["layup"]["crossed"], case.layup.lower_rule)
+        _say_penetrations(out["layup"]["penetration"])
+        _say_crossings(
+            out["layup"]["crossed"], case.layup.lower_rule, bool(out["layup"]["penetration"])
+        )
     thickness = section_thickness(case)
     out["paths"] = {
         name: {

@@ -12,6 +12,7 @@ from solvers.arc_length import JUMP_ITERATIONS, changed_options, descend
 from solvers.augmentation import augment
 from solvers.newton import IncrementFailed, StepTooLong
 from solvers.penalty_start import newton_with_soft_start
+from solvers.stick_start import newton_with_stick_start
 
 if TYPE_CHECKING:
     from solvers.static import Static, StaticRun
@@ -97,9 +98,27 @@ def load_path(solver: Static, run: StaticRun, phase: int, jump: bool = False) ->
                         run, start, trial, iterations_allowed
                     )
                 else:
-                    converged, count, ratio, history = newton_with_soft_start(
-                        run, start, trial, solver.ply_penalty_start, limit
-                    )
+                    try:
+                        converged, count, ratio, history = newton_with_soft_start(
+                            run, start, trial, solver.ply_penalty_start, limit
+                        )
+                    except StepTooLong:
+                        raise
+                    except IncrementFailed as failure:
+                        # before a cut of the first increment, once more with stiff stick
+                        # springs first (solvers/stick_start.py): plies laid on each other
+                        # hold nothing tangentially at the first iterate under the normal
+                        # law's spring
+                        if len(run.frames) > 1:
+                            raise
+                        try:
+                            converged, count, ratio, history = newton_with_stick_start(
+                                run, start, trial
+                            )
+                        except IncrementFailed as again:
+                            failure.iterations += again.iterations
+                            raise failure from None
+                        count += failure.iterations
                 converged, count, ratio, history, more = augment(
                     run, converged, trial, count, ratio, history
                 )

@@ -27,7 +27,7 @@ if TYPE_CHECKING:
     from femcore.state import State
     from solvers.static import StaticRun
 
-__all__ = ["newton_with_soft_start", "softened"]
+__all__ = ["newton_with_soft_start", "softened", "stability_unsought"]
 
 
 @contextmanager
@@ -41,7 +41,7 @@ def softened(model: CompiledModel, share: float) -> Iterator[bool]:
 
 
 @contextmanager
-def _stability_unsought(run: StaticRun) -> Iterator[None]:
+def stability_unsought(run: StaticRun) -> Iterator[None]:
     """The solver's ``seek_stable`` off inside the block: the soft law's equilibrium is a
     way-point whose stability says nothing of the full law's (its tangent may be indefinite
     where the full one is not); mode searches, pushes and kept saddles there would cost
@@ -71,7 +71,7 @@ def newton_with_soft_start(
     with softened(run.model, share) as soft:
         if not soft:
             return newton(run, state, load_factor, turn_limit=turn_limit)
-        with _stability_unsought(run):
+        with stability_unsought(run):
             start, count, _, history = newton(run, state, load_factor, turn_limit=turn_limit)
     run.info["soft_start_iterations"] += count
     try:

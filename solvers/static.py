@@ -86,6 +86,9 @@ class Static:
     line_search : the Armijo line search of the load path (module docstring); without it
         every Newton step is taken whole (after the step cap below).
     max_cuts : how many times an increment may be cut (halved; arc length: docs/theory.md §6.6).
+        Load path: a first increment that fails is tried once more before it is cut, with the
+        frictional contacts' stick springs stiff first (solvers/stick_start.py: plies laid on
+        each other hold nothing tangentially at the first iterate otherwise).
     stall_iterations : load path: cut an attempt whose ratio stayed above 0.1 that long.
     first_turn : load path: an increment whose first Newton step, from the last converged
         state, turns a director by more than this (rad) is cut before it is iterated, to the

@@ -483,7 +483,13 @@ class StaticRun:
         return cuts + 1
 
     def failure(self, reason: str) -> ConvergenceError:
-        hint = stop_hint(self.model, self.state.positions, self.solver.path)
+        hint = stop_hint(
+            self.model,
+            self.state.positions,
+            self.solver.path,
+            at_start=len(self.frames) <= 1,
+            step_loads_first=self.solver.step_loads_first,
+        )
         error = ConvergenceError(
             f"static solver stopped at load factor {self.reached:.6g}: {reason}{hint}.", None
         )

@@ -24,7 +24,13 @@ from typing import Any
 
 import numpy as np
 
-__all__ = ["CYCLE_SWITCHES", "crossing_cycles", "describe_cycles", "stop_hint"]
+__all__ = [
+    "CYCLE_SWITCHES",
+    "FRICTION_AT_START",
+    "crossing_cycles",
+    "describe_cycles",
+    "stop_hint",
+]
 
 # The least number of changes between the two facets in a point's record (of
 # elements/rigid_surface.py FACET_RECORD calls) that counts as a cycle (the node of the
@@ -120,11 +126,32 @@ def describe_cycles(model: Any, positions: np.ndarray | None = None) -> str:
     )
 
 
-def stop_hint(model: Any, positions: np.ndarray | None, path: str) -> str:
+#: Said where a solve with friction stopped in its first increment (after its retry with stiff
+#: stick springs first, solvers/stick_start.py): a body held by friction alone has a static
+#: equilibrium only while its pull stays within mu times its press (Coulomb: it slides
+#: otherwise), and pressing it first is the way to that equilibrium that takes the contact's
+#: events one at a time.
+FRICTION_AT_START = (
+    "; a body held by friction alone has no static equilibrium where its pull passes mu "
+    "times its press (it slides: DynamicRelaxation or an explicit run); below it, press it "
+    "first, then pull it (the pressing loads at amplitude 'step' and "
+    "Static(step_loads_first=True))"
+)
+
+
+def stop_hint(
+    model: Any,
+    positions: np.ndarray | None,
+    path: str,
+    at_start: bool = False,
+    step_loads_first: bool = False,
+) -> str:
     """The end of a stopped static solve's message after its reason: "; " and the crease
     cycles of ``describe_cycles`` when there are some, else ". " and the contacts' hint on a
-    model with interactions, else the generic hint of a limit point or buckling for the
-    solver's ``path`` ("load" or "arc_length")."""
+    model with interactions (with ``FRICTION_AT_START`` where it stopped ``at_start``, before
+    any increment converged, with a frictional interaction and not ``step_loads_first``),
+    else the generic hint of a limit point or buckling for the solver's ``path`` ("load" or
+    "arc_length")."""
     cause = describe_cycles(model, positions)
     if cause:
         return f"; {cause}"
@@ -132,12 +159,16 @@ def stop_hint(model: Any, positions: np.ndarray | None, path: str) -> str:
         # A contact closing, opening or sliding inside an increment stops Newton more often
         # than a limit point does, and a path along a limit point (arc length) does not help
         # there; smaller increments meet the contact's events one at a time.
-        return (
+        hint = (
             ". The model has interactions (contacts, ties): a contact that closes, opens or "
             "slides within an increment can stop Newton; try more increments, or "
             "DynamicRelaxation (path='arc_length' follows a limit point or buckling, not a "
             "contact's events)"
         )
+        frictional = any(block.friction > 0.0 for block in model.interactions)
+        if at_start and frictional and not step_loads_first:
+            hint += FRICTION_AT_START
+        return hint
     remedy = (
         "try path='arc_length' to follow a limit point"
         if path == "load"

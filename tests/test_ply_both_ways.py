@@ -98,16 +98,17 @@ def test_the_mirrored_pass_pushes_the_lower_ply_down_and_the_upper_ply_up(faces)
 
 
 def test_a_layup_without_a_lower_rule_keeps_one_pass_per_interface():
+    # three pairs of plies: 2 on 1, 3 on 2, 3 on 1 (elements/ply_contact.py join_plies)
     layup = Layup(PLY, (0.0, 45.0, 90.0), 40.0, cells=2)
-    assert len(layup.model().compile().interactions) == 2
+    assert len(layup.model().compile().interactions) == 3
     both = Layup(PLY, (0.0, 45.0, 90.0), 40.0, cells=2, lower_rule="centroid")
-    assert [c.mirrored for c in both.model().compile().interactions] == [False, True] * 2
+    assert [c.mirrored for c in both.model().compile().interactions] == [False, True] * 3
 
 
 def test_unknown_points_and_lower_rules_are_refused_with_the_choices():
     with pytest.raises(ValueError, match="points must be one of .*'upper', 'lower'.*'middle'"):
         PlyContact("ply_2", "ply_1", points="middle")
-    with pytest.raises(ValueError, match="rule must be one of .*'edges'"):
+    with pytest.raises(ValueError, match="lower_rule must be None or one of .*'edges'"):
         Layup(PLY, (0.0, 90.0), 40.0, cells=2, lower_rule="edges")
 
 

@@ -38,7 +38,7 @@ def _central(layup: Layup, ply: int) -> int:
 def test_plies_in_their_order_have_not_crossed(layup):
     reference = layup.mesh.points
     assert ply_crossings(layup, reference, reference) == {
-        "ply_2": {"nodes": 0, "deepest_mm": 0.0, "first": []}
+        "ply_2": {"lower": "ply_1", "nodes": 0, "deepest_mm": 0.0, "first": []}
     }
 
 
@@ -62,6 +62,26 @@ def test_a_lower_node_above_the_upper_ply_is_counted_too(layup):
     crossed = ply_crossings(layup, layup.mesh.points, _moved(layup, node, (x, y, 0.55)))
     assert crossed["ply_2"]["first"][0] == node
     assert crossed["ply_2"]["deepest_mm"] == pytest.approx(0.1, rel=1e-9)
+
+
+def test_plies_that_are_not_neighbours_are_judged_too():
+    """[0/0/0], the middle ply drawn 30 mm out along x and the top ply fallen 0.2 mm past the
+    bottom ply's mid-surface (the middle-out stack without ply-on-ply contact between plies
+    that are not neighbours): the top ply's central node is through the bottom ply by 0.2 mm
+    and the bottom ply's central node above the top ply, a crossing being mutual; the nodes
+    on the outline have their closest point on the other ply's outline, beside it and not
+    through it (elements/ply_crossing.py), and the middle ply is beside both."""
+    stack = Layup(FABRIC, (0.0, 0.0, 0.0), 20.0, 20.0, cells=2)
+    bottom, middle, top = stack.ply_nodes
+    positions = stack.mesh.points.copy()
+    positions[middle, 0] += 30.0
+    positions[top, 2] = stack.heights[0] - 0.2
+    crossed = ply_crossings(stack, stack.mesh.points, positions)
+    assert crossed["ply_3_on_ply_1"]["lower"] == "ply_1"
+    # the inner node alone of each ply's 3 x 3 at 2 cells
+    assert crossed["ply_3_on_ply_1"]["nodes"] == 2
+    assert crossed["ply_3_on_ply_1"]["deepest_mm"] == pytest.approx(0.2, rel=1e-9)
+    assert crossed["ply_2"]["nodes"] == 0 and crossed["ply_3"]["nodes"] == 0
 
 
 def test_a_node_beside_the_other_plys_outline_is_off_it_not_through_it():

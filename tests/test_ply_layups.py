@@ -103,9 +103,10 @@ def test_a_layup_is_one_model_with_a_shell_per_ply_at_its_own_warp(kinematics):
     assert np.allclose(layup.heights, [0.15, 0.45, 0.75])
     assert np.allclose(layup.warps[1], [np.sqrt(0.5), np.sqrt(0.5), 0.0])
     compiled = layup.model().compile()
-    assert len(compiled.blocks) == 3 and len(compiled.interactions) == 2
+    # ply 2 on 1, ply 3 on 2, then ply 3 on 1 (every ply on every ply below it)
+    assert len(compiled.blocks) == 3 and len(compiled.interactions) == 3
     assert all(isinstance(block, PlyContactBlock) for block in compiled.interactions)
-    assert [b.friction for b in compiled.interactions] == [0.2, 0.2]
+    assert [b.friction for b in compiled.interactions] == [0.2, 0.2, 0.2]
     for k, nodes in enumerate(layup.ply_nodes):
         assert np.allclose(layup.mesh.points[nodes, 2], layup.heights[k])
     if kinematics == "fibrous":

@@ -1,0 +1,95 @@
+"""What every ply touching every ply below it costs (elements/ply_contact.py ``join_plies``,
+``Layup(pairs=...)``): the CPU of an explicit run of a stack of N plies with the pairs of
+neighbours alone ("neighbours", the stacks' contact before) and with every pair ("all"), side
+by side in one process, by turns, best of ``--repeats``, one thread; the machine's load
+printed. The stack: [0/90/...] plies of 40 x 40 mm at ``--cells`` cells, the bottom ply held,
+a flat holder pressing the top ply with 2 N (force-driven, free along z), frictional plies
+(mu 0.2), over ``--duration``. With 2 plies both settings build the same
+contact, so the final states are compared bit for bit (positions, directors, velocities).
+
+    NUMBA_NUM_THREADS=1 nice -n 5 python benchmarks/ply_pairs.py --plies 4
+    NUMBA_NUM_THREADS=1 nice -n 5 python benchmarks/ply_pairs.py --plies 2
+
+Measured (this script, one thread, nice 5, 8 cells, 0.005 s of run): 4 plies (6 pairs against
+3), load 4.9, 1.537 -> 2.294 ms a step (1.49 times; 804 steps both, the stable step the same);
+2 plies, load 7.0, 0.692 and 0.685 ms a step (one pair either way), the final states identical
+to the bit.
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import sys
+import time
+from pathlib import Path
+from typing import Any
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # this tree's packages
+
+import numpy as np  # noqa: E402
+
+from elements import RigidPlane  # noqa: E402
+from elements.layup import Layup  # noqa: E402
+from materials import Fabric  # noqa: E402
+from solvers import CentralDifference  # noqa: E402
+
+PLY = Fabric(thickness=0.3, areal_density=2.85e-10, tension=60.0, shear=0.2, bending=0.375)
+
+
+def run(plies: int, cells: int, duration: float, pairs: str) -> tuple[float, Any]:
+    """(CPU seconds of the solve, its result) for the stack with ``pairs``."""
+    angles = tuple(0.0 if k % 2 == 0 else 90.0 for k in range(plies))
+    layup = Layup(PLY, angles, 40.0, cells=cells, friction=0.2, pairs=pairs)
+    model = layup.model()
+    model.fix("ply_1")
+    holder = RigidPlane(
+        (0.0, 0.0, plies * PLY.thickness),
+        (0.0, 0.0, -1.0),
+        free="z",
+        force=(0.0, 0.0, -2.0),
+        amplitude="smooth",
+        mass=1e-6,
+    )
+    model.contact(holder, nodes=f"ply_{plies}")
+    start = time.process_time()
+    result = CentralDifference(duration=duration, progress=False, kinetic_bound=None).solve(model)
+    return time.process_time() - start, result
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--plies", type=int, default=4)
+    parser.add_argument("--cells", type=int, default=8)
+    parser.add_argument("--duration", type=float, default=0.01, help="s")
+    parser.add_argument("--repeats", type=int, default=2)
+    args = parser.parse_args()
+    print(f"load {os.getloadavg()[0]:.2f}; {args.plies} plies, {args.cells} cells, "
+          f"{args.duration} s")  # fmt: skip
+    for pairs in ("neighbours", "all"):  # the kernels compiled before the timing
+        run(args.plies, args.cells, 1e-4, pairs)
+    best = {"neighbours": np.inf, "all": np.inf}
+    last = {}
+    for _ in range(args.repeats):
+        for pairs in ("neighbours", "all"):
+            cpu, result = run(args.plies, args.cells, args.duration, pairs)
+            best[pairs] = min(best[pairs], cpu)
+            last[pairs] = result
+    for pairs in ("neighbours", "all"):
+        steps = last[pairs].steps
+        print(
+            f"  {pairs:>10}: {best[pairs]:.3f} s CPU (best of {args.repeats}), {steps} steps, "
+            f"{1e3 * best[pairs] / steps:.3f} ms a step"
+        )
+    print(f"  all / neighbours: {best['all'] / best['neighbours']:.3f}")
+    a, b = last["neighbours"], last["all"]
+    same = all(
+        np.array_equal(getattr(a, name), getattr(b, name), equal_nan=True)
+        for name in ("positions", "directors", "velocities")
+        if hasattr(a, name)
+    )
+    print(f"  final states identical to the bit: {same}; load {os.getloadavg()[0]:.2f}")
+
+
+if __name__ == "__main__":
+    main()
