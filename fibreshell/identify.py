@@ -274,7 +274,7 @@ def identify(
     Raises
     ------
     ValueError
-        Bad data, keys or options; ``out`` held by another command
+        Bad data, keys or options; fewer data values than fitted keys; ``out`` held by another command
         (fibreshell.folder_lock.FolderInUse, naming it: the fit holds it from its first run
         until it returns).
     FitFailed
@@ -337,6 +337,14 @@ def identify(
     named = ["z"] if profile else responses  # the compared columns, in residual order
     measured = np.array([columns[n][r] for g in groups.values() for r in g for n in named],
                         dtype=float)  # fmt: skip
+    if len(measured) < len(keys):
+        # Fewer equations than unknowns: a family of values fits the data exactly, and the
+        # optimiser would return one of them, found by where it started, as the fit.
+        raise ValueError(
+            f"{len(measured)} data value(s) ({len(groups)} condition group(s), responses "
+            f"{', '.join(named)}) for {len(keys)} fitted keys ({', '.join(keys)}): expected "
+            "at least as many data values as fitted keys (more, for an interval)"
+        )
     weights = dict(sigma or {})
     for column, value in weights.items():
         if column not in named:

@@ -19,6 +19,17 @@ from materials import presets
 
 GRAVITY = 9810.0
 
+# A 60 mm strip of 4 cells clamped at its left edge, sagging under its weight, as a case file.
+STRIP_TOML = (
+    "[mesh]\nrectangle = { lx = 60.0, ly = 10.0, nx = 4, ny = 1 }\n"
+    "[[part]]\nelement = \"fibrous\"\n"
+    "material = { thickness = 0.5, areal_density = 3e-10, tension = 1000.0, shear = 0.5, "
+    "bending = 0.1 }\noptions = { clamped = \"left\" }\n[[fix]]\nnodes = \"left\"\n"
+    "[gravity]\nacceleration = [0.0, 0.0, -9810.0]\n"
+    "[solver]\nkind = \"static\"\nincrements = 1\n"
+    "[output]\nhistory = { reactions = [\"left\"], displacements = [\"right\"] }\n"
+)  # fmt: skip
+
 
 def strip(length: float, cells: int, bending: float, density: float, paths=None) -> dict:
     """A strip clamped at its left edge, sagging under its weight, as case tables."""
@@ -109,6 +120,11 @@ def test_measured_data_files_are_checked(tmp_path):
             {"part.0.material.bending": None},
             "cannot also be data columns",
         ),  # fmt: skip
+        (
+            {"x": [30.0], "z": [-5.0]},
+            {"part.0.material.bending": None, "part.0.material.areal_density": None},
+            r"1 data value\(s\) .* for 2 fitted keys .* at least as many data values",
+        ),  # fmt: skip
     ],
 )
 def test_bad_identification_input_is_a_value_error(data, fit, message):
@@ -116,6 +132,21 @@ def test_bad_identification_input_is_a_value_error(data, fit, message):
     fit = {"part.0.material.bending": None} if fit is None else fit
     with pytest.raises(ValueError, match=message):
         identify(strip(60.0, 4, 0.1, 1e-10), data, fit, sigma=sigma, progress=False)
+
+
+def test_the_command_refuses_fewer_data_than_fitted_keys(tmp_path, capsys):
+    # One tip deflection cannot give both the bending stiffness and the areal density (any
+    # pair of the same B / w gives it): the command refused nothing and printed a fit (status
+    # 0, "success": true); now a ValueError before any run, status 2.
+    case = tmp_path / "strip.toml"
+    case.write_text(STRIP_TOML)
+    data = tmp_path / "one.csv"
+    data.write_text("mesh.rectangle.lx,displacement_right_z\n60,-34.39\n")
+    status = main(["identify", str(case), "--data", str(data), "--fit",
+                   "part.0.material.bending=0.2,part.0.material.areal_density", "--workers",
+                   "1", "--out", str(tmp_path / "fit"), "--quiet"])  # fmt: skip
+    assert status == 2
+    assert "for 2 fitted keys" in capsys.readouterr().err
 
 
 def test_a_profile_needs_its_path_named_when_the_case_has_several():
