@@ -274,9 +274,9 @@ def identify(
     Raises
     ------
     ValueError
-        Bad data, keys or options; fewer data values than fitted keys; ``out`` held by another command
-        (fibreshell.folder_lock.FolderInUse, naming it: the fit holds it from its first run
-        until it returns).
+        Bad data, keys or options; fewer data values than fitted keys; ``out`` held by
+        another command (fibreshell.folder_lock.FolderInUse, naming it: the fit holds it from
+        its first run until it returns).
     FitFailed
         A run that fails during the fit (its values and error are given).
     """
