@@ -38,6 +38,7 @@ from fibreshell.case import case_from_data, read_case_data
 from fibreshell.cluster import Failure, dask_client, map_tasks
 from fibreshell.confidence import below_zero, interval_text
 from fibreshell.folder_lock import folder_lock
+from fibreshell.identifiability import CORRELATION_BOUND, combination_text, determinacy
 from fibreshell.outputs import IDENTIFY_FILES
 from fibreshell.run import strict_json
 from fibreshell.sweep import RUN_KEYS, apply_overrides, read_value, run_variant, summary_row
@@ -83,6 +84,19 @@ class Identification:
     initial: np.ndarray = field(default_factory=lambda: np.zeros(0))
     profiles: dict[str, list] = field(default_factory=dict)
     sigma: dict[str, float] = field(default_factory=dict)
+    correlation: np.ndarray = field(default_factory=lambda: np.zeros((0, 0)))
+    determined: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=bool))
+    combinations: list[dict] = field(default_factory=list)
+    undetermined: list[str] = field(default_factory=list)
+    correlated: list[str] = field(default_factory=list)
+    singular_values: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    jacobian_error: float = float("nan")
+
+    @property
+    def all_determined(self) -> bool:
+        """Every fitted value determined alone by the data (``determined``; a result built
+        without the analysis counts as determined)."""
+        return bool(np.all(self.determined))
 
     def as_dict(self) -> dict:
         return {
@@ -103,6 +117,14 @@ class Identification:
             "wall_time_s": self.wall_time_s,
             "responses": self.responses,
             "sigma": self.sigma,
+            "determined": {key: bool(d) for key, d in zip(self.keys, self.determined)},
+            "correlation": self.correlation,
+            "correlation_bound": CORRELATION_BOUND,
+            "singular_values": self.singular_values,
+            "jacobian_error": self.jacobian_error,
+            "undetermined_combinations": self.undetermined,
+            "correlated": self.correlated,
+            "determined_combinations": self.combinations,
         }
 
 
@@ -429,22 +451,45 @@ def identify(
                 residuals, origin, jac=jacobian, method="trf",
                 x_scale=1.0, max_nfev=max_evaluations, ftol=1e-6, xtol=1e-5, gtol=1e-10,
             )  # fmt: skip
-            jac = jacobian(solution.x)
+            forward = jacobian(solution.x)
+            # The backward differences too: their half difference from the forward ones is
+            # the Jacobian's measured error (fibreshell/identifiability.py).
+            backward_points = [solution.x - step * e for e in np.eye(len(keys))]
+            evaluate(backward_points)
+            base = cache[tuple(solution.x)][0]
+            backward = np.column_stack(
+                [(base - cache[tuple(q)][0]) / step for q in backward_points]
+            )
         m, n = len(measured), len(keys)
         values = np.exp(solution.x) * theta0
         final = cache[tuple(solution.x)][0]
-        errors = np.full(n, np.nan)
-        intervals = np.full((n, 2), np.nan)
-        if m > n:
-            # In p = ln(theta / theta_0), where the parameters are alike in scale (the condition
-            # number then says whether the data tell them apart, not how their units compare);
-            # d theta = theta d p carries the covariance over.
-            variance = float(final @ final) / (m - n)
-            normal = jac.T @ jac
-            if np.linalg.cond(normal) < 1e12:
-                errors = np.abs(values) * np.sqrt(np.diag(np.linalg.inv(normal)) * variance)
-                half = stats.t.ppf(0.5 + CONFIDENCE / 2, m - n) * errors
-                intervals = np.column_stack([values - half, values + half])
+        # In p = ln(theta / theta_0), where the parameters are alike in scale (the singular
+        # values then say whether the data tell them apart, not how their units compare);
+        # d theta = theta d p carries the covariance over.
+        found = determinacy(forward, backward, final, n)
+        half_width = stats.t.ppf(0.5 + CONFIDENCE / 2, m - n) if m > n else np.nan
+        errors = np.where(
+            found.determined, np.abs(values) * np.sqrt(np.diag(found.covariance_p)), np.nan
+        )
+        intervals = np.column_stack([values - half_width * errors, values + half_width * errors])
+        combinations, undetermined, correlated = [], [], []
+        if not found.all_determined:
+            for k in range(n):
+                text, exponents = combination_text(keys, found.vectors[:, k])
+                if k >= found.rank:
+                    undetermined.append(text)
+                    continue
+                logarithm = float(exponents @ np.log(values))
+                spread = half_width * float(np.sqrt(exponents @ found.covariance_p @ exponents))
+                combinations.append({
+                    "combination": text,
+                    "exponents": exponents,
+                    "value": float(np.exp(logarithm)),
+                    f"confidence_{int(100 * CONFIDENCE)}": np.exp(
+                        [logarithm - spread, logarithm + spread]
+                    ),
+                })  # fmt: skip
+            correlated = [f"{keys[i]} and {keys[j]}: {c:+.5f}" for i, j, c in found.correlated]
         result = Identification(
             keys=keys,
             start=theta0,
@@ -463,6 +508,13 @@ def identify(
             measured=measured,
             fitted=final * scale + measured,
             initial=cache[tuple(origin)][0] * scale + measured,
+            correlation=found.correlation,
+            determined=found.determined,
+            combinations=combinations,
+            undetermined=undetermined,
+            correlated=correlated,
+            singular_values=found.singular_values,
+            jacobian_error=found.jacobian_error,
         )
         if profile:
             assert path is not None
@@ -537,12 +589,41 @@ def format_result(result: Identification) -> str:
     for i, key in enumerate(result.keys):
         low, high = result.intervals[i]
         value = f"{result.values[i]:.6g}"
-        if np.isfinite(low) and np.isfinite(high):
+        if len(result.determined) and not result.determined[i]:
+            interval = "NOT DETERMINED by the data alone: no interval (below)"
+        elif np.isfinite(low) and np.isfinite(high):
             start, value, end = interval_text(result.values[i], low, high, digits=6)
             interval = f"95 % interval [{start}, {end}]{below_zero((low, high))}"
         else:
-            interval = "no interval (as many data as parameters, or they cannot be told apart)"
+            interval = "no interval (as many data values as parameters)"
         lines.append(f"{key} = {value} (start {result.start[i]:.6g}), {interval}")
+    if len(result.keys) > 1 and result.correlation.shape == (len(result.keys),) * 2:
+        lines.append("correlation of the fitted values (rows and columns in the order above):")
+        lines += ["  " + " ".join(f"{c:+.4f}" for c in row) for row in result.correlation]
+    if not result.all_determined:
+        lines.append(
+            "NOT DETERMINED: the data do not tell these values apart: "
+            + "; ".join(
+                [
+                    f"{text} is not determined (a singular value of the Jacobian within its "
+                    f"error {result.jacobian_error:.3g})"
+                    for text in result.undetermined
+                ]
+                + [
+                    f"{text} (|correlation| above {CORRELATION_BOUND})"
+                    for text in result.correlated
+                ]
+            )  # fmt: skip
+        )
+        for combination in result.combinations:
+            low, high = combination[f"confidence_{int(100 * CONFIDENCE)}"]
+            bounds = ""
+            if np.isfinite(low) and np.isfinite(high):
+                start, _, end = interval_text(combination["value"], low, high, digits=6)
+                bounds = f", 95 % interval [{start}, {end}]"
+            lines.append(
+                f"determined: {combination['combination']} = {combination['value']:.6g}{bounds}"
+            )
     lines.append(
         f"RMS residual {result.residual_rms:.4g}; {result.evaluations} evaluations, "
         f"{result.runs} runs, {result.wall_time_s:.1f} s; "
