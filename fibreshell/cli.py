@@ -125,7 +125,8 @@ def _parser() -> argparse.ArgumentParser:
                          help="the measurement uncertainty of response columns (data units): "
                          "each residual is divided by it (default 1)")  # fmt: skip
     command.add_argument("--max-evaluations", type=int, default=30,
-                         help="model evaluations the fit may make (default 30)")  # fmt: skip
+                         help="model evaluations the fit may make in all, its Jacobians' "
+                         "included (default 30; at least 3 x the fitted keys + 1)")  # fmt: skip
     _cluster_options(command, "-identify")
     commands.add_parser("report", help="run the validation cases and write the report "
                         "(fibreshell report --help)", add_help=False)  # fmt: skip

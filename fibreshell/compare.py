@@ -80,7 +80,7 @@ def compare_case(
     plies: int | None = None,
     shear_ratio: float | None = None,
     fit_path: str | None = None,
-    fit_evaluations: int = 12,
+    fit_evaluations: int = 30,
     scheduler: str | None = None,
     workers: int | None = None,
 ) -> dict[str, Run]:
@@ -111,7 +111,8 @@ def compare_case(
     fit_path : str or None
         The path whose mid-surface the "fit" calibration matches (default: the first).
     fit_evaluations : int
-        Model evaluations the "fit" may make.
+        Model evaluations the "fit" may make in all, its Jacobians' included
+        (fibreshell.identify.identify's ``max_evaluations``; at least 7 for its two values).
     scheduler, workers
         Where the "fit" runs its evaluations: a Dask scheduler's address, or the worker
         processes of a LocalCluster started here (``fibreshell.cluster.dask_client``).
@@ -223,6 +224,11 @@ def remove_comparison(out: Path) -> None:
     (out / "comparison.json").unlink()
 
 
+# The fit's two values (bending_scale, transverse_shear): 3 n + 1 evaluations at the least
+# (fibreshell.identify.identify).
+FIT_FEWEST_EVALUATIONS = 7
+
+
 def _check_fit(case: Case, path: str | None, max_evaluations: int) -> str:
     """The path the fit matches (``path``, or the case's first), or ValueError: no path, an
     unknown one, a case not read from a file, a count of evaluations that is not one."""
@@ -239,9 +245,12 @@ def _check_fit(case: Case, path: str | None, max_evaluations: int) -> str:
     if (
         isinstance(max_evaluations, bool)
         or not isinstance(max_evaluations, int | np.integer)
-        or max_evaluations < 1
+        or max_evaluations < FIT_FEWEST_EVALUATIONS
     ):
-        raise ValueError(f"fit evaluations must be an integer >= 1, got {max_evaluations!r}")
+        raise ValueError(
+            f"fit evaluations must be an integer >= {FIT_FEWEST_EVALUATIONS} (a point and its "
+            f"2 shifted points, and 4 for the Jacobian at the end), got {max_evaluations!r}"
+        )
     return path
 
 
@@ -266,7 +275,7 @@ def fit_calibration(
     fibrous: Run,
     out: Path | None = None,
     path: str | None = None,
-    max_evaluations: int = 12,
+    max_evaluations: int = 30,
     start: Calibration | None = None,
     scheduler: str | None = None,
     workers: int | None = None,

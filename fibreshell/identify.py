@@ -281,7 +281,11 @@ def identify(
     step : float
         Forward-difference step of the Jacobian, relative to the values.
     max_evaluations : int
-        Model evaluations the optimiser may make (each one run per condition group).
+        Model evaluations the fit may make in all (each one run per condition group): the
+        optimiser's points, its Jacobians' shifted points, and the 2 n points of the Jacobian
+        at the end (forward and backward differences), which are kept for it; at least
+        3 n + 1 (a point and a Jacobian for the optimiser). At the cap the fit stops at the
+        best point it evaluated and says so (``success`` False).
     sigma : dict or None
         Response column -> its measurement uncertainty (data units; "z" for a profile): each
         residual is divided by it, so responses in different units (a deflection in mm, a
@@ -314,14 +318,19 @@ def identify(
         raise ValueError("nothing to fit: give at least one key")
     if not (0.0 < step < 0.1):
         raise ValueError(f"step must be in (0, 0.1) (relative), got {step!r}")
+    keys = list(fit)
+    fewest = 3 * len(keys) + 1  # a point and its Jacobian, and the Jacobian at the end
     if (
         isinstance(max_evaluations, bool)
         or not isinstance(max_evaluations, int)
-        or max_evaluations < 2
+        or max_evaluations < fewest
     ):
-        raise ValueError(f"max_evaluations must be a whole number >= 2, got {max_evaluations!r}")
+        raise ValueError(
+            f"max_evaluations must be a whole number >= {fewest} for {len(keys)} fitted "
+            f"key(s) (a point and its {len(keys)} shifted points for the optimiser, and "
+            f"{2 * len(keys)} for the Jacobian at the end), got {max_evaluations!r}"
+        )
     columns = read_measurements(data)
-    keys = list(fit)
     theta0 = start_values(tables, fit)
     conditions = [n for n in columns if not _is_response(n)]
     responses = [n for n in columns if _is_response(n)]
@@ -406,11 +415,14 @@ def identify(
     with folder_lock(folder, f"the fit of {str(case_path)!r}") if folder else nullcontext():
         with dask_client(scheduler, workers) as (client, threads):
 
-            def evaluate(points: list[np.ndarray]) -> None:
-                """Run every condition group at every new point p (log ratios), in one batch."""
+            def evaluate(points: list[np.ndarray], limit: int | None = None) -> None:
+                """Run every condition group at every new point p (log ratios), in one batch;
+                _CapReached instead where it would take the evaluations past ``limit``."""
                 new = [p for p in dict.fromkeys(tuple(p) for p in points) if p not in cache]
                 if not new:
                     return
+                if limit is not None and counts["evaluations"] + len(new) > limit:
+                    raise _CapReached
                 tasks = [
                     (tables, str(case_path), {**setting, **dict(zip(keys, np.exp(p) * theta0))},
                      None, threads)
@@ -432,26 +444,41 @@ def identify(
                     summaries = [result[1] for result in batch]
                     cache[p] = ((model_values(summaries) - measured) / scale, summaries)
 
+            # The optimiser's share of the cap: the rest is the Jacobian at the end.
+            budget = max_evaluations - 2 * len(keys)
+
             def residuals(p: np.ndarray) -> np.ndarray:
-                evaluate([p])
+                evaluate([p], budget)
                 return cache[tuple(p)][0]
 
-            def jacobian(p: np.ndarray) -> np.ndarray:
+            def jacobian(p: np.ndarray, limit: int | None = budget) -> np.ndarray:
                 # Forward differences, every column's runs at once (and the base point if new).
                 steps = np.full(len(p), step)  # relative steps of theta
                 shifted = [p + steps[j] * np.eye(len(p))[j] for j in range(len(p))]
-                evaluate([p, *shifted])
+                evaluate([p, *shifted], limit)
                 base = cache[tuple(p)][0]
                 return np.column_stack(
                     [(cache[tuple(q)][0] - base) / steps[j] for j, q in enumerate(shifted)]
                 )
 
             origin = np.zeros(len(keys))
-            solution = optimize.least_squares(
-                residuals, origin, jac=jacobian, method="trf",
-                x_scale=1.0, max_nfev=max_evaluations, ftol=1e-6, xtol=1e-5, gtol=1e-10,
-            )  # fmt: skip
-            forward = jacobian(solution.x)
+            try:
+                solution = optimize.least_squares(
+                    residuals, origin, jac=jacobian, method="trf",
+                    x_scale=1.0, max_nfev=max_evaluations, ftol=1e-6, xtol=1e-5, gtol=1e-10,
+                )  # fmt: skip
+                best, success, message = solution.x, bool(solution.success), solution.message
+            except _CapReached:
+                # The best point evaluated (the optimiser's or a Jacobian's shifted one).
+                best = np.array(min(cache, key=lambda p: float(cache[p][0] @ cache[p][0])))
+                success = False
+                message = (
+                    f"stopped at the cap of {max_evaluations} model evaluations (the "
+                    f"optimiser's {budget}, and {2 * len(keys)} kept for the Jacobian at the "
+                    "end); the values are the best evaluated: give more (max_evaluations)"
+                )
+            solution = optimize.OptimizeResult(x=best, success=success, message=message)
+            forward = jacobian(solution.x, None)
             # The backward differences too: their half difference from the forward ones is
             # the Jacobian's measured error (fibreshell/identifiability.py).
             backward_points = [solution.x - step * e for e in np.eye(len(keys))]
@@ -531,6 +558,10 @@ def identify(
             (folder / record).write_text(strict_json(result.as_dict()))
             figure(result, settings, folder / drawing)
         return result
+
+
+class _CapReached(Exception):
+    """The optimiser asked for evaluations past its share of ``max_evaluations``."""
 
 
 def _show(value: Any) -> str:

@@ -129,6 +129,27 @@ def test_values_that_enter_only_as_a_ratio_are_said_not_determined(dask_schedule
     assert "determined: part.0.material.bending^1 * part.0.material.areal_density^-1" in printed
 
 
+@pytest.mark.slow
+def test_the_evaluation_cap_bounds_every_model_evaluation_of_the_fit(dask_scheduler):
+    # max_evaluations was scipy's max_nfev, which leaves the Jacobians' evaluations out: at 30
+    # a review's fits made 35 and 41. Now it bounds them all, the Jacobian at the end
+    # included: a fit of B from 2 B to the heavy elastica's tips, capped at 5 (the fewest for
+    # one key is 4), stops at the cap with at most 5 evaluations and says so.
+    from validation.references.elastica import heavy_cantilever
+
+    lengths = [40.0, 80.0]
+    tips = [-heavy_cantilever(L, 3e-10 * GRAVITY, 0.1)["tip_deflection"] for L in lengths]
+    case = strip(60.0, 4, 0.1, 3e-10)
+    case["solver"]["increments"] = 1
+    data = {"mesh.rectangle.lx": lengths, "displacement_right_z": tips}
+    result = identify(case, data, {"part.0.material.bending": 0.2}, max_evaluations=5,
+                      scheduler=dask_scheduler, progress=False)  # fmt: skip
+    assert result.evaluations <= 5 and result.runs == 2 * result.evaluations
+    assert not result.success and "stopped at the cap of 5 model evaluations" in result.message
+    with pytest.raises(ValueError, match=r"max_evaluations must be a whole number >= 4 for 1"):
+        identify(case, data, {"part.0.material.bending": 0.2}, max_evaluations=3)
+
+
 def test_measured_data_files_are_checked(tmp_path):
     bad = tmp_path / "bad.csv"
     bad.write_text("x,z\n1.0,2.0\n3.0\n")
