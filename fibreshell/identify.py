@@ -365,6 +365,12 @@ def identify(
             path = next(iter(built.paths))
         elif path not in built.paths:
             raise ValueError(f"no path {path!r} in the case; its paths: {', '.join(built.paths)}")
+    elif path is not None:
+        raise ValueError(
+            f"path {path!r} is for a profile (data columns x and z); the data's responses are "
+            f"summary columns ({', '.join(responses)}), which are not along a path: leave the "
+            "path out"
+        )
     named = ["z"] if profile else responses  # the compared columns, in residual order
     measured = np.array([columns[n][r] for g in groups.values() for r in g for n in named],
                         dtype=float)  # fmt: skip
@@ -402,7 +408,9 @@ def identify(
                 missing = [n for n in responses if n not in row]
                 if missing:
                     raise ValueError(
-                        f"the runs have no {missing[0]!r}; their columns: {', '.join(row)}"
+                        f"the runs have no {missing[0]!r}; their columns: {', '.join(row)} (a "
+                        "column without a dot is a response; a condition is a dotted key of "
+                        "the case, such as mesh.rectangle.lx)"
                     )
                 values.append(np.array([[row[n] for n in responses] for _ in rows_of_group]))
         return np.concatenate([np.ravel(v) for v in values])

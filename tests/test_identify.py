@@ -182,13 +182,31 @@ def test_measured_data_files_are_checked(tmp_path):
             {"part.0.material.bending": None, "part.0.material.areal_density": None},
             r"1 data value\(s\) .* for 2 fitted keys .* at least as many data values",
         ),  # fmt: skip
+        (  # a path given with summary columns was ignored without a word
+            {"displacement_right_z": [-5.0], "path": "nosuch"},
+            None,
+            r"path 'nosuch' is for a profile .* leave the path out",
+        ),  # fmt: skip
     ],
 )
 def test_bad_identification_input_is_a_value_error(data, fit, message):
     sigma = data.pop("sigma", None)
+    path = data.pop("path", None)
     fit = {"part.0.material.bending": None} if fit is None else fit
     with pytest.raises(ValueError, match=message):
-        identify(strip(60.0, 4, 0.1, 1e-10), data, fit, sigma=sigma, progress=False)
+        identify(strip(60.0, 4, 0.1, 1e-10), data, fit, sigma=sigma, path=path, progress=False)
+
+
+@pytest.mark.slow
+def test_a_condition_column_without_a_dot_is_said_to_need_one(dask_scheduler):
+    # "lx" is read as a response column (no dot); the runs have none: the message says what a
+    # condition is (it gave only the runs' columns).
+    case = strip(60.0, 4, 0.1, 3e-10)
+    case["solver"]["increments"] = 1
+    data = {"lx": [60.0, 70.0], "displacement_right_z": [-34.39, -49.4]}
+    with pytest.raises(ValueError, match=r"the runs have no 'lx'.*a condition is a dotted key"):
+        identify(case, data, {"part.0.material.bending": None}, scheduler=dask_scheduler,
+                 progress=False)  # fmt: skip
 
 
 def test_the_command_refuses_fewer_data_than_fitted_keys(tmp_path, capsys):
