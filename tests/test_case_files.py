@@ -245,6 +245,29 @@ def test_a_mistake_found_as_the_model_is_built_names_the_file_the_table_and_the_
 
 
 @pytest.mark.parametrize(
+    "solver, extra, where",
+    [
+        # the constructor's TypeError "CentralDifference.__init__() missing 1 required
+        # positional argument: 'duration'", without the file or the table
+        ('kind = "explicit"', "", r"\[solver.duration\]: missing: kind = 'explicit' needs"),
+        # the solver's refusal named neither the file nor the [[displace]] table
+        ('kind = "explicit"\nduration = 0.01', '[[displace]]\nnodes = "tip"\nuz = 1.0\n'
+         'amplitude = "step"', r"\[displace\[0\].amplitude\]: .* \"step\" is prescribed "
+         "already at t = 0"),
+    ],
+    ids=["explicit-without-duration", "explicit-step-displacement"],
+)  # fmt: skip
+def test_an_explicit_solver_s_missing_duration_and_a_jump_at_t0_name_the_file_and_table(
+    tmp_path, solver, extra, where
+):
+    text = CANTILEVER.replace('kind = "static"\nincrements = 1', solver) + f"\n{extra}\n"
+    path = write(tmp_path, text)
+    with pytest.raises(CaseError, match=where) as error:
+        load_case(path)
+    assert str(error.value).startswith(str(path))
+
+
+@pytest.mark.parametrize(
     "option, where",
     [
         ("max_steps = 10", r"\[solver.max_steps\]: duration / dt = .* more than max_steps = 10"),
