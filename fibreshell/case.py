@@ -121,6 +121,7 @@ from fibreshell.case_sets import (
     unused_in,
     used_nodes,
 )
+from fibreshell.gravity_units import warn_gravity_units
 from fibreshell.outputs import DEFAULT_CHECKPOINT, checkpoint_collision
 from solvers import CentralDifference, DynamicRelaxation, Static
 
@@ -392,6 +393,9 @@ def case_from_data(data: dict, path: str | Path) -> Case:
             "acceleration": _vector(where, data["gravity"]["acceleration"], "acceleration"),
             "amplitude": _amplitude(where, data["gravity"].get("amplitude", "step")),
         }
+        # in the materials' system of units (fibreshell/gravity_units.py)
+        elements = [p["element"] for p in case.parts]
+        warn_gravity_units(case.gravity["acceleration"], elements, f"{path}: [gravity]")
     case.contacts = [
         _contact(top.child(f"contact[{i}]"), mesh, c, path.parent)
         for i, c in enumerate(_list(top, data, "contact"))
