@@ -636,7 +636,12 @@ def format_result(result: Identification) -> str:
         else:
             interval = "no interval (as many data values as parameters)"
         lines.append(f"{key} = {value} (start {result.start[i]:.6g}), {interval}")
-    if len(result.keys) > 1 and result.correlation.shape == (len(result.keys),) * 2:
+    correlation = result.correlation
+    if (
+        len(result.keys) > 1
+        and correlation.shape == (2 * (len(result.keys),))
+        and np.isfinite(correlation).any()
+    ):  # (none with as many data values as parameters)
         lines.append("correlation of the fitted values (rows and columns in the order above):")
         lines += ["  " + " ".join(f"{c:+.4f}" for c in row) for row in result.correlation]
     if not result.all_determined:

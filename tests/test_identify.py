@@ -334,3 +334,29 @@ def test_a_fit_that_did_not_converge_and_an_interval_through_zero_are_said():
     printed = format_result(found).splitlines()
     assert "it reaches zero: the data do not determine this value" in printed[0]
     assert printed[-1].endswith("NOT CONVERGED: the cap was reached")
+
+
+def test_a_singular_value_within_the_jacobian_s_error_is_not_a_determined_combination():
+    # r_i = a_i exp(b_i (p1 - p2)) depends on p1 - p2 alone: the true Jacobian has rank 1
+    # and its null vector is (1, 1). The forward differences' truncation, (h / 2) b_i^2 r_i
+    # per entry, differs row by row (b_i), so their columns are not parallel: a false second
+    # singular value of order h, which the old test (cond(J^T J) < 1e12) took as real. The
+    # central differences (sinh(b_i h) / h in both columns, of opposite signs) are parallel.
+    from fibreshell.identifiability import combination_text, determinacy
+
+    a, b, h = np.array([1.0, 2.0, 3.0]), np.array([1.0, 2.0, 3.0]), 1e-3
+    forward = np.column_stack([a * np.expm1(b * h) / h, a * np.expm1(-b * h) / h])
+    backward = np.column_stack([-a * np.expm1(-b * h) / h, -a * np.expm1(b * h) / h])
+    assert np.linalg.cond(forward.T @ forward) < 1e12  # the old bound: "determined"
+    found = determinacy(forward, backward, np.array([0.01, -0.02, 0.01]), 2)
+    assert found.rank == 1 and not found.determined.any()
+    assert found.singular_values[1] < 1e-9 * found.singular_values[0] < found.jacobian_error
+    text, exponents = combination_text(["B", "w"], found.vectors[:, 1])
+    assert text == "B^1 * w^1" and exponents == pytest.approx([1.0, 1.0])
+    text, _ = combination_text(["B", "w"], found.vectors[:, 0])
+    assert text == "B^1 * w^-1"
+    # Two parameters each with a response of its own: both determined (correlation -0.32).
+    forward = backward = np.array([[1.0, 0.0], [0.0, 2.0], [1.0, 1.0]])
+    found = determinacy(forward, backward, np.array([0.01, -0.02, 0.01]), 2)
+    assert found.rank == 2 and found.determined.all() and not found.correlated
+    assert found.correlation[0, 1] == pytest.approx(-1.0 / np.sqrt(10.0))  # of [[2, 1], [1, 5]]^-1
