@@ -121,6 +121,7 @@ from fibreshell.case_sets import (
     unused_in,
     used_nodes,
 )
+from fibreshell.gravity_units import warn_gravity_units
 from fibreshell.outputs import DEFAULT_CHECKPOINT, checkpoint_collision
 from solvers import CentralDifference, DynamicRelaxation, Static
 
@@ -392,6 +393,9 @@ def case_from_data(data: dict, path: str | Path) -> Case:
             "acceleration": _vector(where, data["gravity"]["acceleration"], "acceleration"),
             "amplitude": _amplitude(where, data["gravity"].get("amplitude", "step")),
         }
+        # in the materials' system of units (fibreshell/gravity_units.py)
+        elements = [p["element"] for p in case.parts]
+        warn_gravity_units(case.gravity["acceleration"], elements, f"{path}: [gravity]")
     case.contacts = [
         _contact(top.child(f"contact[{i}]"), mesh, c, path.parent)
         for i, c in enumerate(_list(top, data, "contact"))
@@ -408,6 +412,16 @@ def case_from_data(data: dict, path: str | Path) -> Case:
     if "fibre_bending" in data:
         case.fibre_bending = _fibre_bending(top, data["fibre_bending"])
     case.solver = _solver(top, data["solver"])
+    explicit = case.solver["kind"] == "explicit"
+    for i, item in enumerate(case.displacements if explicit else []):
+        if item["amplitude"] == "step":  # a(0) = 1: a jump at t = 0
+            raise top.child(f"displace[{i}]").error(
+                "amplitude",
+                'a displacement with amplitude "step" is prescribed already at t = 0, and an '
+                "explicit run would make its nodes jump there in one step (an infinite "
+                'velocity): give amplitude "smooth" or "linear" (a suddenly applied load is '
+                'a [[force]] with amplitude "step")',
+            )
     for i, contact in enumerate(case.contacts):
         tool = contact["tool"]
         if case.solver["kind"] == "explicit" and tool.driven and tool.mass is None:
@@ -678,6 +692,14 @@ def _solver(top: _Where, value: Any) -> dict:
         raise where.error("kind", f"expected one of {', '.join(SOLVERS)}, got {kind!r}")
     options = {k: v for k, v in value.items() if k not in ("kind", *_CHECKPOINT_KEYS)}
     _keywords(where, SOLVERS[kind], options, frozenset(_SOLVER_RESERVED))
+    needed = inspect.signature(SOLVERS[kind]).parameters.values()
+    missing = [
+        p.name for p in needed
+        if p.default is p.empty and p.kind in (p.POSITIONAL_OR_KEYWORD, p.KEYWORD_ONLY)
+        and p.name not in options
+    ]  # fmt: skip
+    if missing:  # (the constructor's TypeError names neither the table nor the file)
+        raise where.error(missing[0], f"missing: kind = {kind!r} needs {' and '.join(missing)}")
     try:
         SOLVERS[kind](**options)  # the solver's own checks, now, with the file named
     except (ValueError, TypeError) as error:

@@ -15,14 +15,13 @@ validation report.
 Every output folder defaults to one named after the case file in the working folder
 (``CASE``, ``CASE-compare``, ``CASE-sweep``, ``CASE-identify``; the report's ``report``).
 
-Exit status: 0 done, 1 the solver stopped (its last good state is written; for a sweep: a
-variant failed, its row says why; for identify: a run failed or the fit did not converge),
-2 a bad case file or command line (the message names the file, the table and the key), or an
-output folder another command is writing in (fibreshell.folder_lock: the message names it), 3 an
-output folder or file could not be written (one line on stderr names the path and what was
-kept), 130 interrupted (SIGINT or SIGTERM: ``run`` finishes the step in progress, writes its
-outputs, checkpoint and summary.json with status "interrupted" and says how to resume).
-"""
+Exit status: 0 done, 1 the solver stopped (its last good state is written; for a sweep: a variant
+failed, its row says why; for identify: a run failed, the fit did not converge, or the data do not
+determine a fitted value), 2 a bad case file or command line (the message names the file, the table
+and the key), or an output folder another command is writing in (fibreshell.folder_lock: the message
+names it), 3 an output folder or file could not be written (one line on stderr names the path and
+what was kept), 130 interrupted (SIGINT or SIGTERM: ``run`` finishes the step in progress, writes
+its outputs, checkpoint and summary.json with status "interrupted" and says how to resume)."""
 
 from __future__ import annotations
 
@@ -126,7 +125,8 @@ def _parser() -> argparse.ArgumentParser:
                          help="the measurement uncertainty of response columns (data units): "
                          "each residual is divided by it (default 1)")  # fmt: skip
     command.add_argument("--max-evaluations", type=int, default=30,
-                         help="model evaluations the fit may make (default 30)")  # fmt: skip
+                         help="model evaluations the fit may make in all, its Jacobians' "
+                         "included (default 30; at least 3 x the fitted keys + 1)")  # fmt: skip
     _cluster_options(command, "-identify")
     commands.add_parser("report", help="run the validation cases and write the report "
                         "(fibreshell report --help)", add_help=False)  # fmt: skip
@@ -215,7 +215,8 @@ def _identify(args: argparse.Namespace, progress: bool | None) -> int:
         return 1
     print(format_result(result))
     print(f"results in {out}/ (identify.json, fit.png)")
-    return 0 if result.success else 1
+    # A value the data do not determine is not a result: status 1, as a fit that failed.
+    return 0 if result.success and result.all_determined else 1
 
 
 def _out_folder(argument: str | None, case_path: str, suffix: str) -> Path:

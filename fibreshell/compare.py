@@ -5,7 +5,7 @@ solver, side by side: the fibrous shell, the Mindlin shell of a stated calibrati
 ``comparison.json`` has one schema (README "comparison.json"):
 
     {"case": title, "calibration": {"name", "rule", "numbers"},
-     "kinematics": {NAME: {"converged", "stopped", "wall_time_s",
+     "kinematics": {NAME: {"converged", "stopped", "final_load_factor", "wall_time_s",
                            "paths": {PATH: {"s", "x", "y", "z", "horizontal",
                                             "director_angle_deg", "director_tilt_deg",
                                             "thickness"}},
@@ -13,6 +13,8 @@ solver, side by side: the fibrous shell, the Mindlin shell of a stated calibrati
                            "reactions": {SET: [x, y, z]}}},
      "differences": {NAME: {"paths": {PATH: {"z_max_mm", "director_angle_max_deg",
                                              "thickness_max_mm"}}}},  (NAME against fibrous)
+                    or {NAME: {"stopped": "mindlin stopped at load factor 0", "paths": {}}}
+                    where either run stopped (its state is not a result to compare)
      "figures": [...]}
 """
 
@@ -34,8 +36,8 @@ from fibreshell.run import Run, profile, run_case, section_thickness, strict_jso
 
 __all__ = [
     "COLOURS", "DEFAULT_KINEMATICS", "KINEMATICS", "calibration_lines", "compare_case",
-    "fit_calibration",
-    "kinematics_record", "path_figure", "remove_comparison", "summary_lines", "view_3d",
+    "fit_calibration", "kinematics_record", "path_figure", "remove_comparison", "stopped_text",
+    "summary_lines", "view_3d",
 ]  # fmt: skip
 
 KINEMATICS = ("fibrous", "mindlin", "plies")
@@ -78,7 +80,7 @@ def compare_case(
     plies: int | None = None,
     shear_ratio: float | None = None,
     fit_path: str | None = None,
-    fit_evaluations: int = 12,
+    fit_evaluations: int = 30,
     scheduler: str | None = None,
     workers: int | None = None,
 ) -> dict[str, Run]:
@@ -109,7 +111,8 @@ def compare_case(
     fit_path : str or None
         The path whose mid-surface the "fit" calibration matches (default: the first).
     fit_evaluations : int
-        Model evaluations the "fit" may make.
+        Model evaluations the "fit" may make in all, its Jacobians' included
+        (fibreshell.identify.identify's ``max_evaluations``; at least 7 for its two values).
     scheduler, workers
         Where the "fit" runs its evaluations: a Dask scheduler's address, or the worker
         processes of a LocalCluster started here (``fibreshell.cluster.dask_client``).
@@ -188,7 +191,7 @@ def compare_case(
                 }
             ),
             "kinematics": records,
-            "differences": _differences({name: r["paths"] for name, r in records.items()}),
+            "differences": _differences(records),
             "figures": [],
         }
         if "plies" in runs:
@@ -221,6 +224,11 @@ def remove_comparison(out: Path) -> None:
     (out / "comparison.json").unlink()
 
 
+# The fit's two values (bending_scale, transverse_shear): 3 n + 1 evaluations at the least
+# (fibreshell.identify.identify).
+FIT_FEWEST_EVALUATIONS = 7
+
+
 def _check_fit(case: Case, path: str | None, max_evaluations: int) -> str:
     """The path the fit matches (``path``, or the case's first), or ValueError: no path, an
     unknown one, a case not read from a file, a count of evaluations that is not one."""
@@ -237,9 +245,12 @@ def _check_fit(case: Case, path: str | None, max_evaluations: int) -> str:
     if (
         isinstance(max_evaluations, bool)
         or not isinstance(max_evaluations, int | np.integer)
-        or max_evaluations < 1
+        or max_evaluations < FIT_FEWEST_EVALUATIONS
     ):
-        raise ValueError(f"fit evaluations must be an integer >= 1, got {max_evaluations!r}")
+        raise ValueError(
+            f"fit evaluations must be an integer >= {FIT_FEWEST_EVALUATIONS} (a point and its "
+            f"2 shifted points, and 4 for the Jacobian at the end), got {max_evaluations!r}"
+        )
     return path
 
 
@@ -264,7 +275,7 @@ def fit_calibration(
     fibrous: Run,
     out: Path | None = None,
     path: str | None = None,
-    max_evaluations: int = 12,
+    max_evaluations: int = 30,
     start: Calibration | None = None,
     scheduler: str | None = None,
     workers: int | None = None,
@@ -345,6 +356,7 @@ def kinematics_record(case: Case, run: Run) -> dict[str, Any]:
     return {
         "converged": summary.get("converged"),
         "stopped": summary.get("stopped"),
+        "final_load_factor": summary.get("final_load_factor"),
         "wall_time_s": run.wall_time,
         "paths": paths,
         "sets": {
@@ -367,11 +379,25 @@ def _path_record(case: Case, run: Run, name: str, h: float) -> dict[str, Any]:
     return record
 
 
+def stopped_text(name: str, record: dict[str, Any]) -> str | None:
+    """ "mindlin stopped at load factor 0.25" for a kinematics whose run stopped before its end
+    (``record``: its entry of comparison.json, ``kinematics_record``), else None: its last
+    state is where the solver gave up, not the case's answer."""
+    if not record.get("stopped"):  # the solver's error, None for a run that reached its end
+        return None
+    factor = record.get("final_load_factor")
+    at = f" at load factor {factor:.4g}" if isinstance(factor, int | float) else ""
+    return f"{name} stopped{at}"
+
+
 def _differences(records: dict[str, dict[str, Any]]) -> dict[str, Any]:
-    """Per kinematics other than fibrous, per path (``records``: kinematics -> its paths'
-    profiles): the largest |difference| from the fibrous shell of the mid-surface height (mm,
-    at the fibrous nodes' horizontal positions), of the director angle (deg) and of the
-    thickness along the director (mm), node by node."""
+    """Per kinematics other than fibrous, per path (``records``: kinematics -> its entry of
+    comparison.json, ``kinematics_record``): the largest |difference| from the fibrous shell
+    of the mid-surface height (mm, at the fibrous nodes' horizontal positions), of the
+    director angle (deg) and of the thickness along the director (mm), node by node. Where
+    either run stopped, no numbers: {"stopped": "... stopped at load factor x", "paths": {}}
+    (a stopped run's state compared with a finished one's read as a result; two stopped ones
+    at load factor 0 as agreement)."""
     if "fibrous" not in records:
         return {}
     out: dict[str, Any] = {}
@@ -379,8 +405,14 @@ def _differences(records: dict[str, dict[str, Any]]) -> dict[str, Any]:
         if name == "fibrous":
             continue
         out[name] = {"paths": {}}
-        for path, line in records[name].items():
-            base = records["fibrous"][path]
+        stopped = [
+            text for text in (stopped_text(k, records[k]) for k in ("fibrous", name)) if text
+        ]
+        if stopped:
+            out[name]["stopped"] = " and ".join(stopped)
+            continue
+        for path, line in records[name]["paths"].items():
+            base = records["fibrous"]["paths"][path]
             order = np.argsort(line["horizontal"])
             z = np.interp(
                 base["horizontal"],
@@ -462,6 +494,8 @@ def summary_lines(comparison: dict[str, Any], calibration: bool = True) -> list[
     per path the largest differences from the fibrous shell."""
     lines = _calibration_lines(comparison["calibration"]) if calibration else []
     for name, record in comparison["differences"].items():
+        if record.get("stopped"):
+            lines.append(f"{name} - fibrous: not compared: {record['stopped']}")
         for path, d in record["paths"].items():
             lines.append(
                 f"{name} - fibrous along {path}: height {d['z_max_mm']:.3g} mm, director angle "
@@ -488,20 +522,24 @@ def path_figure(case: Case, runs: dict[str, Run], name: str, out: Path, label: s
     figure, grid = plt.subplots(2, 2, figsize=PATH_FIGURE_SIZE, layout="constrained")
     axes = grid.ravel()
     for kinematics, run in runs.items():
-        line = kinematics_record(case, run)["paths"][name]
+        record = kinematics_record(case, run)
+        line = record["paths"][name]
         colour = COLOURS[kinematics]
+        stopped = stopped_text(kinematics, record)  # its state is not a result: said
+        legend = f"{stopped} (not a result)" if stopped else kinematics
         horizontal = np.asarray(line["horizontal"])
         z = np.asarray(line["z"])
         angle = np.radians(np.asarray(line["director_angle_deg"]))
         thickness = np.asarray(line["thickness"])
-        axes[0].plot(horizontal, z, color=colour, label=kinematics)
+        style = "--" if stopped else "-"
+        axes[0].plot(horizontal, z, style, color=colour, label=legend)
         half = 0.5 * thickness[:, None] * np.column_stack([np.cos(angle), np.sin(angle)])
         ends_u = np.column_stack([horizontal - half[:, 0], horizontal + half[:, 0]])
         ends_z = np.column_stack([z - half[:, 1], z + half[:, 1]])
         axes[0].plot(ends_u.T, ends_z.T, color=colour, linewidth=0.8)
-        axes[1].plot(line["s"], line["director_angle_deg"], color=colour, label=kinematics)
-        axes[2].plot(line["s"], line["director_tilt_deg"], color=colour, label=kinematics)
-        axes[3].plot(line["s"], thickness, color=colour, label=kinematics)
+        axes[1].plot(line["s"], line["director_angle_deg"], style, color=colour, label=legend)
+        axes[2].plot(line["s"], line["director_tilt_deg"], style, color=colour, label=legend)
+        axes[3].plot(line["s"], thickness, style, color=colour, label=legend)
     axes[0].set_aspect("equal", adjustable="datalim")
     titles = (
         f"(a) side elevation of path '{name}', true scale",
@@ -564,7 +602,11 @@ def view_3d(case: Case, runs: dict[str, Run], out: Path, label: str = "") -> Pat
         for ticks in (axis.xaxis, axis.yaxis, axis.zaxis):  # readable ticks at true scale
             ticks.set_major_locator(MaxNLocator(nbins=4))
         axis.set(xlabel="x (mm)", ylabel="y (mm)", zlabel="z (mm)")
-        axis.set_title(f"{kinematics}: deformed, true scale")
+        stopped = stopped_text(kinematics, run.summary)
+        axis.set_title(
+            f"{stopped}: its last state, not a result" if stopped
+            else f"{kinematics}: deformed, true scale"
+        )  # fmt: skip
     if label:
         figure.suptitle(label)
     path = out / "view-3d.png"

@@ -38,6 +38,7 @@ from fibreshell.case import case_from_data, read_case_data
 from fibreshell.cluster import Failure, dask_client, map_tasks
 from fibreshell.confidence import below_zero, interval_text
 from fibreshell.folder_lock import folder_lock
+from fibreshell.identifiability import CORRELATION_BOUND, combination_text, determinacy
 from fibreshell.outputs import IDENTIFY_FILES
 from fibreshell.run import strict_json
 from fibreshell.sweep import RUN_KEYS, apply_overrides, read_value, run_variant, summary_row
@@ -83,6 +84,19 @@ class Identification:
     initial: np.ndarray = field(default_factory=lambda: np.zeros(0))
     profiles: dict[str, list] = field(default_factory=dict)
     sigma: dict[str, float] = field(default_factory=dict)
+    correlation: np.ndarray = field(default_factory=lambda: np.zeros((0, 0)))
+    determined: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=bool))
+    combinations: list[dict] = field(default_factory=list)
+    undetermined: list[str] = field(default_factory=list)
+    correlated: list[str] = field(default_factory=list)
+    singular_values: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    jacobian_error: float = float("nan")
+
+    @property
+    def all_determined(self) -> bool:
+        """Every fitted value determined alone by the data (``determined``; a result built
+        without the analysis counts as determined)."""
+        return bool(np.all(self.determined))
 
     def as_dict(self) -> dict:
         return {
@@ -103,6 +117,14 @@ class Identification:
             "wall_time_s": self.wall_time_s,
             "responses": self.responses,
             "sigma": self.sigma,
+            "determined": {key: bool(d) for key, d in zip(self.keys, self.determined)},
+            "correlation": self.correlation,
+            "correlation_bound": CORRELATION_BOUND,
+            "singular_values": self.singular_values,
+            "jacobian_error": self.jacobian_error,
+            "undetermined_combinations": self.undetermined,
+            "correlated": self.correlated,
+            "determined_combinations": self.combinations,
         }
 
 
@@ -259,7 +281,11 @@ def identify(
     step : float
         Forward-difference step of the Jacobian, relative to the values.
     max_evaluations : int
-        Model evaluations the optimiser may make (each one run per condition group).
+        Model evaluations the fit may make in all (each one run per condition group): the
+        optimiser's points, its Jacobians' shifted points, and the 2 n points of the Jacobian
+        at the end (forward and backward differences), which are kept for it; at least
+        3 n + 1 (a point and a Jacobian for the optimiser). At the cap the fit stops at the
+        best point it evaluated and says so (``success`` False).
     sigma : dict or None
         Response column -> its measurement uncertainty (data units; "z" for a profile): each
         residual is divided by it, so responses in different units (a deflection in mm, a
@@ -274,9 +300,9 @@ def identify(
     Raises
     ------
     ValueError
-        Bad data, keys or options; ``out`` held by another command
-        (fibreshell.folder_lock.FolderInUse, naming it: the fit holds it from its first run
-        until it returns).
+        Bad data, keys or options; fewer data values than fitted keys; ``out`` held by
+        another command (fibreshell.folder_lock.FolderInUse, naming it: the fit holds it from
+        its first run until it returns).
     FitFailed
         A run that fails during the fit (its values and error are given).
     """
@@ -292,14 +318,19 @@ def identify(
         raise ValueError("nothing to fit: give at least one key")
     if not (0.0 < step < 0.1):
         raise ValueError(f"step must be in (0, 0.1) (relative), got {step!r}")
+    keys = list(fit)
+    fewest = 3 * len(keys) + 1  # a point and its Jacobian, and the Jacobian at the end
     if (
         isinstance(max_evaluations, bool)
         or not isinstance(max_evaluations, int)
-        or max_evaluations < 2
+        or max_evaluations < fewest
     ):
-        raise ValueError(f"max_evaluations must be a whole number >= 2, got {max_evaluations!r}")
+        raise ValueError(
+            f"max_evaluations must be a whole number >= {fewest} for {len(keys)} fitted "
+            f"key(s) (a point and its {len(keys)} shifted points for the optimiser, and "
+            f"{2 * len(keys)} for the Jacobian at the end), got {max_evaluations!r}"
+        )
     columns = read_measurements(data)
-    keys = list(fit)
     theta0 = start_values(tables, fit)
     conditions = [n for n in columns if not _is_response(n)]
     responses = [n for n in columns if _is_response(n)]
@@ -334,9 +365,23 @@ def identify(
             path = next(iter(built.paths))
         elif path not in built.paths:
             raise ValueError(f"no path {path!r} in the case; its paths: {', '.join(built.paths)}")
+    elif path is not None:
+        raise ValueError(
+            f"path {path!r} is for a profile (data columns x and z); the data's responses are "
+            f"summary columns ({', '.join(responses)}), which are not along a path: leave the "
+            "path out"
+        )
     named = ["z"] if profile else responses  # the compared columns, in residual order
     measured = np.array([columns[n][r] for g in groups.values() for r in g for n in named],
                         dtype=float)  # fmt: skip
+    if len(measured) < len(keys):
+        # Fewer equations than unknowns: a family of values fits the data exactly, and the
+        # optimiser would return one of them, found by where it started, as the fit.
+        raise ValueError(
+            f"{len(measured)} data value(s) ({len(groups)} condition group(s), responses "
+            f"{', '.join(named)}) for {len(keys)} fitted keys ({', '.join(keys)}): expected "
+            "at least as many data values as fitted keys (more, for an interval)"
+        )
     weights = dict(sigma or {})
     for column, value in weights.items():
         if column not in named:
@@ -363,7 +408,9 @@ def identify(
                 missing = [n for n in responses if n not in row]
                 if missing:
                     raise ValueError(
-                        f"the runs have no {missing[0]!r}; their columns: {', '.join(row)}"
+                        f"the runs have no {missing[0]!r}; their columns: {', '.join(row)} (a "
+                        "column without a dot is a response; a condition is a dotted key of "
+                        "the case, such as mesh.rectangle.lx)"
                     )
                 values.append(np.array([[row[n] for n in responses] for _ in rows_of_group]))
         return np.concatenate([np.ravel(v) for v in values])
@@ -376,11 +423,14 @@ def identify(
     with folder_lock(folder, f"the fit of {str(case_path)!r}") if folder else nullcontext():
         with dask_client(scheduler, workers) as (client, threads):
 
-            def evaluate(points: list[np.ndarray]) -> None:
-                """Run every condition group at every new point p (log ratios), in one batch."""
+            def evaluate(points: list[np.ndarray], limit: int | None = None) -> None:
+                """Run every condition group at every new point p (log ratios), in one batch;
+                _CapReached instead where it would take the evaluations past ``limit``."""
                 new = [p for p in dict.fromkeys(tuple(p) for p in points) if p not in cache]
                 if not new:
                     return
+                if limit is not None and counts["evaluations"] + len(new) > limit:
+                    raise _CapReached
                 tasks = [
                     (tables, str(case_path), {**setting, **dict(zip(keys, np.exp(p) * theta0))},
                      None, threads)
@@ -402,41 +452,79 @@ def identify(
                     summaries = [result[1] for result in batch]
                     cache[p] = ((model_values(summaries) - measured) / scale, summaries)
 
+            # The optimiser's share of the cap: the rest is the Jacobian at the end.
+            budget = max_evaluations - 2 * len(keys)
+
             def residuals(p: np.ndarray) -> np.ndarray:
-                evaluate([p])
+                evaluate([p], budget)
                 return cache[tuple(p)][0]
 
-            def jacobian(p: np.ndarray) -> np.ndarray:
+            def jacobian(p: np.ndarray, limit: int | None = budget) -> np.ndarray:
                 # Forward differences, every column's runs at once (and the base point if new).
                 steps = np.full(len(p), step)  # relative steps of theta
                 shifted = [p + steps[j] * np.eye(len(p))[j] for j in range(len(p))]
-                evaluate([p, *shifted])
+                evaluate([p, *shifted], limit)
                 base = cache[tuple(p)][0]
                 return np.column_stack(
                     [(cache[tuple(q)][0] - base) / steps[j] for j, q in enumerate(shifted)]
                 )
 
             origin = np.zeros(len(keys))
-            solution = optimize.least_squares(
-                residuals, origin, jac=jacobian, method="trf",
-                x_scale=1.0, max_nfev=max_evaluations, ftol=1e-6, xtol=1e-5, gtol=1e-10,
-            )  # fmt: skip
-            jac = jacobian(solution.x)
+            try:
+                solution = optimize.least_squares(
+                    residuals, origin, jac=jacobian, method="trf",
+                    x_scale=1.0, max_nfev=max_evaluations, ftol=1e-6, xtol=1e-5, gtol=1e-10,
+                )  # fmt: skip
+                best, success, message = solution.x, bool(solution.success), solution.message
+            except _CapReached:
+                # The best point evaluated (the optimiser's or a Jacobian's shifted one).
+                best = np.array(min(cache, key=lambda p: float(cache[p][0] @ cache[p][0])))
+                success = False
+                message = (
+                    f"stopped at the cap of {max_evaluations} model evaluations (the "
+                    f"optimiser's {budget}, and {2 * len(keys)} kept for the Jacobian at the "
+                    "end); the values are the best evaluated: give more (max_evaluations)"
+                )
+            solution = optimize.OptimizeResult(x=best, success=success, message=message)
+            forward = jacobian(solution.x, None)
+            # The backward differences too: their half difference from the forward ones is
+            # the Jacobian's measured error (fibreshell/identifiability.py).
+            backward_points = [solution.x - step * e for e in np.eye(len(keys))]
+            evaluate(backward_points)
+            base = cache[tuple(solution.x)][0]
+            backward = np.column_stack(
+                [(base - cache[tuple(q)][0]) / step for q in backward_points]
+            )
         m, n = len(measured), len(keys)
         values = np.exp(solution.x) * theta0
         final = cache[tuple(solution.x)][0]
-        errors = np.full(n, np.nan)
-        intervals = np.full((n, 2), np.nan)
-        if m > n:
-            # In p = ln(theta / theta_0), where the parameters are alike in scale (the condition
-            # number then says whether the data tell them apart, not how their units compare);
-            # d theta = theta d p carries the covariance over.
-            variance = float(final @ final) / (m - n)
-            normal = jac.T @ jac
-            if np.linalg.cond(normal) < 1e12:
-                errors = np.abs(values) * np.sqrt(np.diag(np.linalg.inv(normal)) * variance)
-                half = stats.t.ppf(0.5 + CONFIDENCE / 2, m - n) * errors
-                intervals = np.column_stack([values - half, values + half])
+        # In p = ln(theta / theta_0), where the parameters are alike in scale (the singular
+        # values then say whether the data tell them apart, not how their units compare);
+        # d theta = theta d p carries the covariance over.
+        found = determinacy(forward, backward, final, n)
+        half_width = stats.t.ppf(0.5 + CONFIDENCE / 2, m - n) if m > n else np.nan
+        errors = np.where(
+            found.determined, np.abs(values) * np.sqrt(np.diag(found.covariance_p)), np.nan
+        )
+        intervals = np.column_stack([values - half_width * errors, values + half_width * errors])
+        combinations, undetermined, correlated = [], [], []
+        if not found.all_determined:
+            for k in range(n):
+                text, exponents = combination_text(keys, found.vectors[:, k])
+                if k >= found.rank:
+                    undetermined.append(text)
+                    continue
+                logarithm = float(exponents @ np.log(values))
+                spread = half_width * float(np.sqrt(exponents @ found.covariance_p @ exponents))
+                combinations.append({
+                    "combination": text,
+                    "exponents": exponents,
+                    "value": float(np.exp(logarithm)),
+                    f"confidence_{int(100 * CONFIDENCE)}": np.exp(
+                        [logarithm - spread, logarithm + spread]
+                    ),
+                })  # fmt: skip
+            correlated = [f"{keys[i]} and {keys[j]}: {c:+.5f}" for i, j, c in found.correlated]
         result = Identification(
             keys=keys,
             start=theta0,
@@ -455,6 +543,13 @@ def identify(
             measured=measured,
             fitted=final * scale + measured,
             initial=cache[tuple(origin)][0] * scale + measured,
+            correlation=found.correlation,
+            determined=found.determined,
+            combinations=combinations,
+            undetermined=undetermined,
+            correlated=correlated,
+            singular_values=found.singular_values,
+            jacobian_error=found.jacobian_error,
         )
         if profile:
             assert path is not None
@@ -471,6 +566,10 @@ def identify(
             (folder / record).write_text(strict_json(result.as_dict()))
             figure(result, settings, folder / drawing)
         return result
+
+
+class _CapReached(Exception):
+    """The optimiser asked for evaluations past its share of ``max_evaluations``."""
 
 
 def _show(value: Any) -> str:
@@ -529,12 +628,46 @@ def format_result(result: Identification) -> str:
     for i, key in enumerate(result.keys):
         low, high = result.intervals[i]
         value = f"{result.values[i]:.6g}"
-        if np.isfinite(low) and np.isfinite(high):
+        if len(result.determined) and not result.determined[i]:
+            interval = "NOT DETERMINED by the data alone: no interval (below)"
+        elif np.isfinite(low) and np.isfinite(high):
             start, value, end = interval_text(result.values[i], low, high, digits=6)
             interval = f"95 % interval [{start}, {end}]{below_zero((low, high))}"
         else:
-            interval = "no interval (as many data as parameters, or they cannot be told apart)"
+            interval = "no interval (as many data values as parameters)"
         lines.append(f"{key} = {value} (start {result.start[i]:.6g}), {interval}")
+    correlation = result.correlation
+    if (
+        len(result.keys) > 1
+        and correlation.shape == (2 * (len(result.keys),))
+        and np.isfinite(correlation).any()
+    ):  # (none with as many data values as parameters)
+        lines.append("correlation of the fitted values (rows and columns in the order above):")
+        lines += ["  " + " ".join(f"{c:+.4f}" for c in row) for row in result.correlation]
+    if not result.all_determined:
+        lines.append(
+            "NOT DETERMINED: the data do not tell these values apart: "
+            + "; ".join(
+                [
+                    f"{text} is not determined (a singular value of the Jacobian within its "
+                    f"error {result.jacobian_error:.3g})"
+                    for text in result.undetermined
+                ]
+                + [
+                    f"{text} (|correlation| above {CORRELATION_BOUND})"
+                    for text in result.correlated
+                ]
+            )  # fmt: skip
+        )
+        for combination in result.combinations:
+            low, high = combination[f"confidence_{int(100 * CONFIDENCE)}"]
+            bounds = ""
+            if np.isfinite(low) and np.isfinite(high):
+                start, _, end = interval_text(combination["value"], low, high, digits=6)
+                bounds = f", 95 % interval [{start}, {end}]"
+            lines.append(
+                f"determined: {combination['combination']} = {combination['value']:.6g}{bounds}"
+            )
     lines.append(
         f"RMS residual {result.residual_rms:.4g}; {result.evaluations} evaluations, "
         f"{result.runs} runs, {result.wall_time_s:.1f} s; "

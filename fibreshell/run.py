@@ -35,9 +35,9 @@ from solvers.output import ENERGY_KEYS, CheckpointMismatch
 HISTORY_SETTINGS = frozenset({"history_nodes", "frame_summary"})
 
 __all__ = [
-    "FrameRows", "Run", "check_run_options", "frame_row", "frames_written", "history_rows", "kept",
-    "path_axis", "profile", "run_case", "run_kinematics", "section_thickness", "solve_keeping",
-    "strict_json", "summarise",
+    "FrameRows", "Run", "check_kinematics", "check_run_options", "frame_row", "frames_written",
+    "history_rows", "kept", "path_axis", "profile", "run_case", "run_kinematics",
+    "section_thickness", "solve_keeping", "strict_json", "summarise",
 ]  # fmt: skip
 
 
@@ -84,6 +84,25 @@ def check_run_options(
             f"{', '.join(given)} set how fibrous parts become Mindlin shells, which only "
             f"kinematics='mindlin' does; with kinematics={kinematics!r} they would be ignored: "
             "run with kinematics='mindlin' (a sweep: vary or set kinematics=mindlin too)"
+        )
+
+
+def check_kinematics(case: Case, kinematics: str | None) -> None:
+    """Raise ValueError where ``kinematics`` names a shell the case has no part to run in:
+    "fibrous" without a fibrous part (a Mindlin-only case would run as it is, named
+    "fibrous"), "mindlin" without a fibrous or Mindlin part (nothing becomes a Mindlin
+    shell). None (the case's own parts) is always allowed."""
+    if kinematics is None:
+        return
+    kinds = {part["kind"] for part in case.parts}
+    if case.layup is not None:
+        kinds = {"fibrous" if case.has_fibrous else "mindlin"}
+    runnable = {"fibrous": {"fibrous"}, "mindlin": {"fibrous", "mindlin"}}.get(kinematics)
+    if runnable is not None and not kinds & runnable:
+        raise ValueError(
+            f"{case.path}: kinematics={kinematics!r} needs a part of element "
+            f"{' or '.join(sorted(runnable))}; the case's parts are {', '.join(sorted(kinds))} "
+            f"(leave kinematics out to run the case as it is)"
         )
 
 
@@ -145,16 +164,18 @@ def run_case(
     ------
     ValueError
         A calibration or its numbers given where ``kinematics`` is not "mindlin" (they would
-        be ignored); ``out`` is a file or under one; ``resume`` without a checkpoint to resume
-        from; ``out`` held by another command (fibreshell.folder_lock.FolderInUse, naming
-        it); a checkpoint path that lands on a file the run writes in ``out``; a CaseError
-        (naming the file, the table and the key) for a model that cannot be built or a solver
+        be ignored); a ``kinematics`` the case has no part of (``check_kinematics``);
+        ``out`` is a file or under one; ``resume`` without a checkpoint to resume from;
+        ``out`` held by another command (fibreshell.folder_lock.FolderInUse, naming it); a
+        checkpoint path that lands on a file the run writes in ``out``; a CaseError (naming
+        the file, the table and the key) for a model that cannot be built or a solver
         setting it cannot be run with (``max_steps``, mass scaling).
     femcore.writable.OutputError
         ``out`` cannot be written or is too full for the first frames, or a write failed
         during the run (the message names the file and what was kept).
     """
     check_run_options(kinematics, calibration, shear_ratio, bending_scale, transverse_shear)
+    check_kinematics(case, kinematics)
     mesh = case.mesh
     kind = case.solver["kind"]
     # Room for the first frames only where frames are written (an explicit run always).

@@ -474,7 +474,7 @@ def sweep(
         ``out`` held by another command (fibreshell.folder_lock.FolderInUse, naming it): the
         sweep holds it until it returns, and each variant its own folder while it runs.
     """
-    from fibreshell.run import check_run_options
+    from fibreshell.run import check_kinematics, check_run_options
 
     if not isinstance(in_process, (bool, np.bool_)):
         raise ValueError(f"in_process must be True or False, got {in_process!r}")
@@ -510,8 +510,9 @@ def sweep(
             rows.append(row)
             tables, options = apply_overrides(data, overrides)  # a wrong key: the sweep's error
             try:
-                case_from_data(tables, path)  # a value the case refuses: this variant's row
+                built = case_from_data(tables, path)  # a value the case refuses: its row
                 check_run_options(**options)  # a calibration its kinematics would ignore
+                check_kinematics(built, options.get("kinematics"))  # no part of that shell
             except (CaseError, ValueError) as error:
                 row.update(converged=False, error=f"{type(error).__name__}: {error}")
                 errors.append(str(error))

@@ -7,6 +7,7 @@ a file is a ValueError naming the file, the table and the key, and the JSON outp
 import csv
 import json
 import re
+import warnings
 from pathlib import Path
 
 import numpy as np
@@ -15,6 +16,7 @@ import pytest
 from elements import FibrousShell
 from femcore import Mesh, Model
 from fibreshell import CaseError, compare_case, load_case, run_case, strict_json
+from fibreshell.case import case_from_data
 from fibreshell.cli import main
 from materials import BendingLaw, ElasticShell, ShearLaw, TensionLaw, presets
 from solvers import Static
@@ -242,6 +244,62 @@ def test_a_mistake_found_as_the_model_is_built_names_the_file_the_table_and_the_
     with pytest.raises(CaseError, match=where) as error:
         load_case(path).model()
     assert str(error.value).count(str(path)) == 1
+
+
+@pytest.mark.parametrize(
+    "solver, extra, where",
+    [
+        # the constructor's TypeError "CentralDifference.__init__() missing 1 required
+        # positional argument: 'duration'", without the file or the table
+        ('kind = "explicit"', "", r"\[solver.duration\]: missing: kind = 'explicit' needs"),
+        # the solver's refusal named neither the file nor the [[displace]] table
+        ('kind = "explicit"\nduration = 0.01', '[[displace]]\nnodes = "tip"\nuz = 1.0\n'
+         'amplitude = "step"', r"\[displace\[0\].amplitude\]: .* \"step\" is prescribed "
+         "already at t = 0"),
+    ],
+    ids=["explicit-without-duration", "explicit-step-displacement"],
+)  # fmt: skip
+def test_an_explicit_solver_s_missing_duration_and_a_jump_at_t0_name_the_file_and_table(
+    tmp_path, solver, extra, where
+):
+    text = CANTILEVER.replace('kind = "static"\nincrements = 1', solver) + f"\n{extra}\n"
+    path = write(tmp_path, text)
+    with pytest.raises(CaseError, match=where) as error:
+        load_case(path)
+    assert str(error.value).startswith(str(path))
+
+
+@pytest.mark.parametrize(
+    "gravity, density, message",
+    [
+        (-9.81, 3e-10, r"gravity 9.81 fits m/s\^2, but .* in mm, N, t, s, where it is 9.81 mm/s"),
+        (-9810.0, 0.3, r"gravity 9810 fits mm/s\^2, but .* in m, N, kg, s, where it is 9810 m/s"),
+        (-9810.0, 3e-10, None),  # mm, N, t, s throughout: quiet
+        (-9.81, 0.3, None),  # m, N, kg, s throughout: quiet
+    ],
+    ids=["m-per-s2-with-tonnes", "mm-per-s2-with-kg", "mm-throughout", "si-throughout"],
+)
+def test_a_gravity_in_the_other_system_of_units_than_the_materials_is_warned(
+    tmp_path, gravity, density, message
+):
+    # 9.81 beside densities in t/mm^2 was taken as 9.81 mm/s^2, a thousandth of the Earth's
+    # gravity, without a word (the materials' own unit checks are quiet: they fit mm, N, t, s).
+    tables = {
+        "mesh": {"rectangle": {"lx": 60.0, "ly": 10.0, "nx": 2, "ny": 1}},
+        "part": [{"element": "fibrous", "material": {"thickness": 0.5 if density < 1 else 5e-4,
+                  "areal_density": density, "tension": 1000.0, "shear": 0.5, "bending": 0.1}}],
+        "fix": [{"nodes": "left"}],
+        "gravity": {"acceleration": [0.0, 0.0, gravity]},
+        "solver": {"kind": "static", "increments": 1},
+    }  # fmt: skip
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        case_from_data(tables, tmp_path / "case.toml")
+    said = [str(w.message) for w in caught if "[gravity]" in str(w.message)]
+    if message is None:
+        assert said == []
+    else:
+        assert len(said) == 1 and re.search(message, said[0]), said
 
 
 @pytest.mark.parametrize(

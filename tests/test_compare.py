@@ -164,7 +164,7 @@ def test_the_fit_calibration_recovers_the_bending_of_a_linear_fabric(tmp_path, d
     # On a scheduler of the caller's (a user's cluster; here the session's, tests/conftest.py,
     # whose workers have started already): the fit's runs are its tasks.
     fitted = fit_calibration(
-        case, fibrous, tmp_path / "fit", start=start, scheduler=dask_scheduler, max_evaluations=5
+        case, fibrous, tmp_path / "fit", start=start, scheduler=dask_scheduler, max_evaluations=15
     )
     assert fitted.name == "fit"
     assert fitted.bending_scale == pytest.approx(1.0, rel=0.02)
@@ -297,6 +297,64 @@ def test_the_plies_default_to_the_fabric_s_ply_count(tmp_path):
     inline = _case(tmp_path, CANTILEVER)  # an inline fabric states no ply count
     with pytest.raises(ValueError, match="states no ply count; give the number of plies"):
         ply_stack(inline)
+
+
+# The G1151 strip in one increment without cuts: the fibrous shell converges, the Mindlin
+# shell of its laws stops at load factor 0 (25 iterations; the residual ratio 1.2e-3).
+STOPPING_STRIP = """
+title = "G1151 strip, one increment"
+[mesh]
+rectangle = { lx = 200.0, ly = 60.0, nx = 8, ny = 2 }
+[[part]]
+element = "fibrous"
+material = "g1151_laminate"
+options = { clamped = "left" }
+[[fix]]
+nodes = "left"
+[gravity]
+acceleration = [0.0, 0.0, -9810.0]
+[solver]
+kind = "static"
+increments = 1
+max_cuts = 0
+max_iterations = ITERATIONS
+[output]
+paths = { centre = { y_min = "50%", y_max = "50%" } }
+"""
+
+
+@pytest.mark.parametrize(
+    "iterations, stopped",
+    [
+        (25, "mindlin stopped at load factor 0"),
+        (1, "fibrous stopped at load factor 0 and mindlin stopped at load factor 0"),
+    ],
+    ids=["mindlin-stops", "both-stop"],
+)
+def test_a_stopped_run_is_not_compared_as_a_result(tmp_path, capsys, iterations, stopped):
+    # A run that stopped keeps its last good state, here the unloaded strip: compared with
+    # the fibrous shell's sag it printed "mindlin - fibrous along centre: height 126 mm" and
+    # wrote it in comparison.json as a difference; both stopped, "height 0 mm" read as
+    # agreement. Now no numbers, the stop said in the printout, the JSON and the legends.
+    case = tmp_path / "strip.toml"
+    case.write_text(STOPPING_STRIP.replace("ITERATIONS", str(iterations)))
+    out = tmp_path / "out"
+    assert main(["compare", str(case), "--out", str(out), "--quiet"]) == 1
+    printed = capsys.readouterr().out
+    assert f"mindlin - fibrous: not compared: {stopped}" in printed
+    assert "along centre: height" not in printed
+    comparison = _read(out)
+    assert comparison["differences"] == {"mindlin": {"paths": {}, "stopped": stopped}}
+    assert comparison["kinematics"]["mindlin"]["final_load_factor"] == 0.0
+
+
+def test_a_stopped_run_is_said_with_its_load_factor():
+    from fibreshell.compare import stopped_text
+
+    assert stopped_text("mindlin", {"stopped": "did not converge", "final_load_factor": 0.25}) == (
+        "mindlin stopped at load factor 0.25"
+    )
+    assert stopped_text("mindlin", {"stopped": None, "final_load_factor": 1.0}) is None
 
 
 def test_a_fit_stopped_at_its_evaluation_cap_says_so_and_an_interval_through_zero_is_flagged():

@@ -516,6 +516,35 @@ def test_a_sweep_of_a_calibration_number_on_the_fibrous_kinematics_is_refused():
     assert sag[0] < sag[1] < 0.0
 
 
+def mindlin_cantilever() -> dict:
+    """A Mindlin shell cantilever under a tip force (no fibrous part), as case tables."""
+    return {
+        "mesh": {"rectangle": {"lx": 100.0, "ly": 10.0, "nx": 4, "ny": 1}},
+        "part": [{"element": "mindlin",
+                  "material": {"E": 1e5, "nu": 0.0, "thickness": 1.0, "density": 1e-9}}],
+        "fix": [{"nodes": "left"}],
+        "force": [{"nodes": "right", "vector": [0.0, 0.0, -0.01]}],
+        "solver": {"kind": "static", "increments": 1},
+        "output": {"history": {"displacements": ["right"]}},
+    }  # fmt: skip
+
+
+def test_a_kinematics_the_case_has_no_part_of_is_refused(tmp_path):
+    # kinematics = fibrous on a Mindlin-only case ran the Mindlin shell and named the row and
+    # summary.json "fibrous"; now that variant is a row with its error, run_case refuses it,
+    # and kinematics = mindlin (the case's own shell) runs.
+    table = sweep(mindlin_cantilever(), {"kinematics": ["fibrous", "mindlin"]},
+                  in_process=True, progress=False)  # fmt: skip
+    assert table.failed == [0]
+    assert "kinematics='fibrous' needs a part of element fibrous" in table.rows[0]["error"]
+    assert "the case's parts are mindlin" in table.rows[0]["error"]
+    assert table.rows[1]["converged"] and table.rows[1]["kinematics"] == "mindlin"
+    case = case_from_data(mindlin_cantilever(), tmp_path / "cantilever.toml")
+    with pytest.raises(ValueError, match="kinematics='fibrous' needs a part of element fibrous"):
+        run_case(case, tmp_path / "run", kinematics="fibrous", progress=False)
+    assert not (tmp_path / "run" / "summary.json").exists()
+
+
 def test_a_sweep_terminated_by_sigterm_says_which_variants_did_not_end(monkeypatch, tmp_path):
     """SIGTERM during the second variant (a scheduler's kill, a shell's timeout): as Ctrl-C,
     sweep.csv holds the first variant's row and marks the others interrupted, and the
