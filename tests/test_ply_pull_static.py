@@ -123,12 +123,14 @@ def test_an_attempt_that_fails_on_the_stuck_tangents_step_is_tried_again_with_th
     more from its start with its prescribed motion applied alone before it is cut: the pull
     in 8 increments converges to mu F (tolerance 1e-4, above; measured 1.1e-6, the same
     bits as with the prediction: the retry's attempt is the predicted one) with one retry,
-    11-29-5-6-5-5-5-4 Newton iterations an increment (the failed attempt's 24 counted).
+    11-29-5-6-5-5-5-4 Newton iterations an increment (the failed attempt's 24 counted); since
+    the Mindlin plies' fibre curvature is the deformed fibre's (docs/theory.md §5.7), with
+    two, in the second and fourth increments, 11-54-5-25-5-5-5-4, the same pull to 5e-12.
     Without the retry it stopped after 8 cuts in the second increment."""
     monkeypatch.setattr(newton, "opens_contact", lambda *_: False)
     result, _, upper = pulled(MU, increments=8)
     assert result.converged
-    assert result.info["imposed_alone_retries"] == 1
+    assert 1 <= result.info["imposed_alone_retries"] <= 2
     assert result.info["imposed_alone_opened"] == 0
     pull = result.reactions[upper, 0].sum()
     assert pull == pytest.approx(MU * PRESS, rel=1e-4)

@@ -51,8 +51,10 @@ def test_a_soft_start_bends_the_deck_in_fewer_iterations_to_the_same_equilibrium
     # plies-deck-of-cards' deck of 2 plies on 10 cells in the case's 4 curved increments, the
     # automatic penalty. Measured: plain 9-8-8-43 Newton iterations and 68 more in an attempt
     # cut (137 tangents); started at 1e-3 of the penalty 10-9-8-20 (13 soft and 7 full in
-    # the last), none cut (48). Bound: no cut, at most 25 in any increment, fewer than half
-    # the tangents. The equilibria: measured within 3.3e-10 mm; bound 1e-6 mm (Static's
+    # the last), none cut (48). Since the Mindlin plies' fibre curvature is the deformed
+    # fibre's (docs/theory.md §5.7) the plain bend takes 9-8-8-42 and 86 tangents in all
+    # (111 on the code just before), the started one 10-9-6-20 (45). Bound: no cut, at most
+    # 25 in any increment, at most 0.6 of the plain bend's tangents. The equilibria: measured within 3.3e-10 mm; bound 1e-6 mm (Static's
     # tolerance 1e-8 of the forces on a 100 mm strip, as tests/test_static_curved_contact.py):
     # the second phase solves the full law, so only the path differs.
     plain, started = _bend(None), _bend(deck.DECK_PENALTY_START)
@@ -60,7 +62,7 @@ def test_a_soft_start_bends_the_deck_in_fewer_iterations_to_the_same_equilibrium
     assert started.info["soft_start_iterations"] > 0
     assert max(started.info["iterations_per_increment"]) <= 25
     tangents = plain.info["evaluations"]["tangent"], started.info["evaluations"]["tangent"]
-    assert 2 * tangents[1] < tangents[0], tangents
+    assert tangents[1] <= 0.6 * tangents[0], tangents
     assert np.abs(started.positions - plain.positions).max() <= 1e-6
     assert np.abs(started.directors - plain.directors).max() <= 1e-8
 
