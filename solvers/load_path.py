@@ -125,7 +125,7 @@ def load_path(solver: Static, run: StaticRun, phase: int, jump: bool = False) ->
             iterations += count
             passes += more
             iterations_allowed = None
-            run.accept(converged, trial)
+            run.accept(converged, trial, count)
             run.damp(None)
             # After a cut, grow the step back towards the nominal one.
             step = min(1.0 / solver.increments, 2.0 * step)
