@@ -109,6 +109,10 @@ class StaticRun:
         self.dissipations = [model.dissipated_energy(self.state)]  # friction's, N mm
         self.progress = ProgressLine(resolve_progress(solver.progress), "static")
         self.negative: int | None = 0
+        # Whether an exact tangent factorised by Newton in the current attempt had a negative
+        # pivot (solvers/newton.py): with a stable start and end, the load step crossed an
+        # unstable stretch of the path (``note_jump``).
+        self.met_indefinite = False
         # The last converged state is a saddle that no push along its negative modes descends
         # from (solvers.saddles.judged): the next increment follows it by plain Newton.
         self.on_kept_saddle = False
@@ -216,6 +220,22 @@ class StaticRun:
             stacklevel=outside_stacklevel(),
         )
 
+    def note_jump(self, start: float, end: float) -> None:
+        """Record and warn that the load step from ``start`` to ``end`` crossed an unstable
+        stretch of the path: both ends stable, an iterate's tangent between them not
+        (docs/theory.md §6.5, "Load control past a limit point"). ``info["jumps"]`` gets the
+        load factor of the last state on the near branch, ``start``."""
+        self.info["jumps"].append(start)
+        message = (
+            f"load control jumped between load factors {start:.4g} and {end:.4g}: both states "
+            "are stable but the Newton iterates between them met a tangent with a negative "
+            "eigenvalue, a limit point or bifurcation the load steps passed over (a "
+            "snap-through); the path in between is not followed (info['jumps']; "
+            "path='arc_length' follows it)"
+        )
+        self.progress(message, force=True)
+        warnings.warn(message, UserWarning, stacklevel=outside_stacklevel())
+
     def pattern(self, phase: int):
         """(forces, moments, imposed displacements) per unit load factor in a phase."""
         upper = self.solver.loads(self.model, phase + 1.0)
@@ -284,6 +304,12 @@ class StaticRun:
         self.counts["stability_tangents"] += 1
         frames = self.model.dofs.frames(state.directors)
         return self.factorise(self._assemble(state, frames)[0])
+
+    @property
+    def last_factorisation(self) -> Factorisation | None:
+        """The last factorisation made (``factor_at`` reuses it where it was made at the
+        state asked for)."""
+        return self._factorised[1]
 
     # ------------------------------------------------------------------ configurations
     def place(self, state: State, load_factor: float) -> State:
