@@ -51,9 +51,10 @@ class SolverError(RuntimeError):
     load_factor: float | None = None
     steps: int = 0
 
-    def __init__(self, message: str, result: Result | None):
+    def __init__(self, message: str, result: Result | None, steps: int = 0):
         super().__init__(message)
         self.result = result
+        self.steps = steps
 
 
 class SettingError(ValueError):

@@ -350,9 +350,8 @@ class DynamicRelaxation:
                 error.result = self._result(
                     compiled, frames, iterations, residuals, masses, started, False
                 )
-                # the unfinished increment's iterations count too (``_spent``): a stop at
-                # iteration 3910 of the first increment read "after 0 steps", one by
-                # max_iterations left the failed increment's iterations out
+                # the unfinished increment's iterations count too: a stop at iteration 3910 of
+                # the first increment read "after 0 steps", one by max_iterations left them out
                 error.result.steps += error.steps
                 raise
             iterations.append(count)
@@ -466,13 +465,11 @@ class DynamicRelaxation:
 
             ratio, ok = balance.judge(f_int, m_int, residual, moment)
             if not np.isfinite(ratio) and not masses.fictitious:
-                raise _spent(
-                    DivergenceError(
-                        f"dynamic relaxation produced non-finite forces in increment "
-                        f"{increment} (load factor {load_factor:.4g}) at iteration {iteration}",
-                        None,
-                    ),
-                    iteration,
+                raise DivergenceError(
+                    f"dynamic relaxation produced non-finite forces in increment {increment} "
+                    f"(load factor {load_factor:.4g}) at iteration {iteration}",
+                    None,
+                    steps=iteration,
                 )
             if ok:
                 _warn_below_floor(balance.test, floor, self.tol, load_factor, unloaded)
@@ -508,14 +505,12 @@ class DynamicRelaxation:
                 recovered_to = at_rest
                 masses.recoveries += 1
                 if inflate > _MAX_INFLATION:
-                    raise _spent(
-                        DivergenceError(
-                            f"dynamic relaxation blew up in increment {increment} (load factor "
-                            f"{load_factor:.4g}) at iteration {iteration} even with the "
-                            f"fictitious masses {_MAX_INFLATION:g} times their Gershgorin bound",
-                            None,
-                        ),
-                        iteration,
+                    raise DivergenceError(
+                        f"dynamic relaxation blew up in increment {increment} (load factor "
+                        f"{load_factor:.4g}) at iteration {iteration} even with the fictitious "
+                        f"masses {_MAX_INFLATION:g} times their Gershgorin bound",
+                        None,
+                        steps=iteration,
                     )
                 state, rotation_since_start = at_rest, rest_rotation.copy()
                 mass, inertia, dt = masses(state, inflate)
@@ -527,9 +522,8 @@ class DynamicRelaxation:
                 continue
 
             if plateau.stalled(iteration, ratio):
-                raise _spent(
-                    ConvergenceError(plateau.message(self, increment, load_factor, ratio), None),
-                    iteration,
+                raise ConvergenceError(
+                    plateau.message(self, increment, load_factor, ratio), None, steps=iteration
                 )
             if ratio <= _STALL_RATIO:
                 high_since = iteration + 1
@@ -538,9 +532,8 @@ class DynamicRelaxation:
             ):
                 # The out-of-balance did not fall and the model has moved farther than its own
                 # size: nothing holds the motion (a slow but supported relaxation stays put).
-                raise _spent(
-                    ConvergenceError(_stall_message(model, increment, self, load_factor), None),
-                    iteration,
+                raise ConvergenceError(
+                    _stall_message(model, increment, self, load_factor), None, steps=iteration
                 )
 
             step = 0.5 * dt if restart else dt
@@ -600,16 +593,14 @@ class DynamicRelaxation:
                     np.sum(inertia[:, None] * omega * omega)
                 )
 
-        raise _spent(
-            ConvergenceError(
-                f"dynamic relaxation did not converge in increment {increment}/"
-                f"{self.increments} (load factor {load_factor:.4g}) within "
-                f"{self.max_iterations} iterations: residual ratio {ratio:.3g}, tolerance "
-                f"{self.tol:g}. Raise max_iterations, use more increments, or try the other "
-                f"damping ({'kinetic' if self.damping == 'viscous' else 'viscous'}).",
-                None,
-            ),
-            self.max_iterations,
+        raise ConvergenceError(
+            f"dynamic relaxation did not converge in increment {increment}/{self.increments} "
+            f"(load factor {load_factor:.4g}) within {self.max_iterations} iterations: residual "
+            f"ratio {ratio:.3g}, tolerance {self.tol:g}. Raise max_iterations, use more "
+            "increments, or try the other damping ("
+            f"{'kinetic' if self.damping == 'viscous' else 'viscous'}).",
+            None,
+            steps=self.max_iterations,
         )
 
     @staticmethod
@@ -647,13 +638,6 @@ _STALL_RATIO = 0.5
 def _iteration_status(increment: int, iteration: int, ratio: float, tol: float) -> str:
     """The status of an iteration (made only when the progress line shows it)."""
     return f"increment {increment}: iteration {iteration}, residual ratio {ratio:.3g} (tol {tol:g})"
-
-
-def _spent(error: SolverError, iterations: int) -> SolverError:
-    """``error`` with ``steps``: the iterations its increment took before it stopped, which the
-    result's steps count with the converged increments' (``_increments``)."""
-    error.steps = iterations
-    return error
 
 
 def _interrupted(error: Interrupted, increment: int, increments: int, saved_at) -> str:
