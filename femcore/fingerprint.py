@@ -81,10 +81,15 @@ class Fingerprint:
     items : dict[str, tuple[str, str]]
         Item label (e.g. "gravity 0", "block 0 (Cable) axial_stiffness") -> (part, digest):
         what a message names within a part that differs.
+    solver : str
+        The solver's kind (its settings' "solver", e.g. "CentralDifference"; "" when none
+        was given, and in a checkpoint written before it was kept): named first when a
+        checkpoint of another kind is refused, where the settings of two kinds all differ.
     """
 
     parts: dict[str, str]
     items: dict[str, tuple[str, str]]
+    solver: str = ""
 
     def differences(self, other: Fingerprint) -> list[str]:
         """What differs from ``other``, a phrase per part, e.g. "its loads differ (gravity
@@ -169,7 +174,8 @@ def fingerprint(model: CompiledModel, solver: Mapping[str, Any] | None = None) -
         for label in sorted(label for label, (p, _) in items.items() if p == part):
             hasher.update(f"{label}={items[label][1]};".encode())
         parts[part] = hasher.hexdigest()
-    return Fingerprint(parts, items)
+    kind = (solver or {}).get("solver", "")
+    return Fingerprint(parts, items, kind if isinstance(kind, str) else "")
 
 
 def digest(value: Any) -> str:

@@ -220,6 +220,8 @@ def _run_locked(case, out, kinematics, progress, calibration, shear_ratio, bendi
                 f"the checkpoint {named!r} would overwrite {taken} ({str(out)!r}); give "
                 "[solver] checkpoint another name"
             )
+    if resume:
+        refuse_diverged_resume(out)
     if resume and (checkpoint is None or not checkpoint.exists()):
         why = (
             "a static run has no checkpoint"
@@ -277,7 +279,9 @@ def _run_locked(case, out, kinematics, progress, calibration, shear_ratio, bendi
     if kinds is not None:  # "mixed": which parts are what
         summary["parts"] = kinds
     summary["status"] = status
-    summary["checkpoint"] = str(checkpoint) if checkpoint is not None else None
+    # (a diverged explicit run removes a checkpoint that held a state past its last good one)
+    left = checkpoint is not None and checkpoint.exists()
+    summary["checkpoint"] = str(checkpoint) if left else None
     try:
         if kind == "relaxation" and write_frames:
             result.write(out / "result.pvd")
@@ -290,7 +294,25 @@ def _run_locked(case, out, kinematics, progress, calibration, shear_ratio, bendi
     except OSError as failed:
         raise OutputError.from_error(failed, kept(out, checkpoint)) from None
     return Run(label, result, error, wall, summary, status=status,
-               signal=getattr(failure, "signal", None), checkpoint=checkpoint)  # fmt: skip
+               signal=getattr(failure, "signal", None),
+               checkpoint=checkpoint if left else None)  # fmt: skip
+
+
+def refuse_diverged_resume(out: Path) -> None:
+    """Raise ValueError when the run in ``out`` diverged (its summary.json says so): its
+    outputs end at its last good state, and resuming it with the same settings would take the
+    same steps to the same divergence."""
+    try:
+        stopped = json.loads((out / "summary.json").read_text()).get("stopped")
+    except (OSError, ValueError, AttributeError):
+        return
+    if isinstance(stopped, str) and " diverged at step " in stopped:
+        first = stopped.split(": ", 1)[0]
+        raise ValueError(
+            f"nothing to resume in {str(out)!r}: the run there diverged ({first}); resuming "
+            "it as it is would diverge again: run without --resume, with a smaller dt or "
+            "safety"
+        )
 
 
 def run_kinematics(case: Case, kinematics: str | None) -> tuple[str, list[str] | None]:

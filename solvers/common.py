@@ -44,13 +44,17 @@ __all__ = [
 class SolverError(RuntimeError):
     """A solve that could not reach its goal. ``result`` holds every good frame up to the
     failure (``result.converged`` is False), so the last good state can be inspected or
-    written; ``load_factor`` is the last load factor reached, where the solver has one."""
+    written; ``load_factor`` is the last load factor reached, where the solver has one;
+    ``steps`` the iterations of an increment it did not finish, where the solver counts them
+    in ``result.steps`` (dynamic relaxation)."""
 
     load_factor: float | None = None
+    steps: int = 0
 
-    def __init__(self, message: str, result: Result | None):
+    def __init__(self, message: str, result: Result | None, steps: int = 0):
         super().__init__(message)
         self.result = result
+        self.steps = steps
 
 
 class SettingError(ValueError):

@@ -354,6 +354,9 @@ class CentralDifference(StableStepRule):
         """The time steps of ``solve`` from ``run``'s state to the end of the duration."""
         last_saved = time.perf_counter()
         duration = self.duration
+        # The time of the state the checkpoint holds (a resumed run's: the state it resumed
+        # from), None before one is written.
+        saved_time = [run.state.time if saved_at is not None and saved_at.exists() else None]
 
         def result(converged: bool) -> Result:
             made = self._result(compiled, run, started, converged)
@@ -383,11 +386,23 @@ class CentralDifference(StableStepRule):
             run.energy.drop_after(good_time)  # the failed steps' records go with their frames
             if run.summaries and kept[-1].time > run.summaries[-1][0]:
                 self._summarise(run, kept[-1])
+            removed = ""
+            if saved_time[0] is not None and saved_time[0] > good_time * (1.0 + 1e-12):
+                # The checkpoint holds a state the checks had not passed (a save comes every
+                # 10 steps, before the step that checks it): a resume would start past the
+                # last good state, from outputs trimmed back to it, and diverge again.
+                assert saved_at is not None
+                saved_at.unlink(missing_ok=True)
+                removed = (
+                    f" The checkpoint held the state at t = {saved_time[0]:.6g} s, past the "
+                    "last good one, and was removed: resuming the run as it is would diverge "
+                    "again."
+                )
             failure = DivergenceError(
                 f"central difference diverged at step {run.step}, t = {run.state.time:.6g} s "
                 f"(dt = {dt:.3g} s): {message}; the last frame is the last state that passed "
                 f"the checks (t = {good_time:.6g} s). Reduce dt or safety, or check the loads "
-                f"and material laws.{scaled}",
+                f"and material laws.{scaled}{removed}",
                 result(False),
             )
             if history is not None:
@@ -409,6 +424,7 @@ class CentralDifference(StableStepRule):
                 run.wall_time = time.perf_counter() - started
                 payload = {"signature": signature, "run": run, "assembled": self._assembled}
                 save_checkpoint(saved_at, payload)
+                saved_time[0] = run.state.time
 
         masses = LumpedMasses(run.mass, run.inertia)  # rebuilt when the inertia follows h_m
         while run.state.time < duration * (1.0 - 1e-12):

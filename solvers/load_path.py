@@ -10,6 +10,7 @@ from typing import TYPE_CHECKING
 
 from solvers.arc_length import JUMP_ITERATIONS, changed_options, descend
 from solvers.augmentation import augment
+from solvers.load_jumps import jumped
 from solvers.newton import IncrementFailed, StepTooLong
 from solvers.penalty_start import newton_with_soft_start
 from solvers.stick_start import newton_with_stick_start
@@ -88,6 +89,8 @@ def load_path(solver: Static, run: StaticRun, phase: int, jump: bool = False) ->
             # Land on the target exactly: sums of step fractions miss it by rounding.
             trial = target if run.reached + step >= target - 1e-12 else run.reached + step
             start = run.predict(trial, follow=solver.follow_tools_after_cut and cuts_here > 0)
+            run.met_indefinite = False
+            stable_start, begun, before = run.negative == 0, run.reached, run.balanced
             run.damp(trial)
             checked = not resized and iterations_allowed is None and turn_cuts < solver.max_cuts
             limit = solver.first_turn if checked else None
@@ -144,7 +147,10 @@ def load_path(solver: Static, run: StaticRun, phase: int, jump: bool = False) ->
             iterations += count
             passes += more
             iterations_allowed = None
-            run.accept(converged, trial)
+            crossed = stable_start and run.met_indefinite and iterations_allowed is None
+            run.accept(converged, trial, count)
+            if crossed and run.negative == 0 and jumped(run, before, begun, converged, trial):
+                run.note_jump(begun, trial)
             run.damp(None)
             # After a cut, grow the step back towards the nominal one.
             step = min(1.0 / solver.increments, 2.0 * step)

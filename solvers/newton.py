@@ -417,6 +417,9 @@ def _iterate(
         if moved_index.size:
             rhs = rhs - k_fp @ left.ravel()[moved_index]
         factor = run.factorise(k_ff)
+        # An exact tangent's negative pivot on the way (StaticRun.note_jump); not the
+        # compression-free one's, which is not the state's.
+        run.met_indefinite |= bool(factor.negative) and not slack
         delta_free = factor.solve(rhs)
         regularised = delta_free is None
         if delta_free is None:

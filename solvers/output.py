@@ -396,6 +396,11 @@ def resume(path: Path | None, signature: Fingerprint | None) -> dict[str, Any] |
     if differences:
         only_solver = all(d.startswith("its solver settings") for d in differences)
         written = "with other solver settings" if only_solver else "for another model"
+        # (getattr: a Fingerprint pickled before the kind was kept has no attribute of its own
+        # but the class's default, "")
+        kinds = (getattr(saved, "solver", ""), signature.solver)
+        if all(kinds) and kinds[0] != kinds[1]:
+            written = f"by another solver, {kinds[0]} (this run is {kinds[1]})"
         changed = sorted(
             label
             for label in set(signature.items) | set(saved.items)

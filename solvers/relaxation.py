@@ -350,10 +350,9 @@ class DynamicRelaxation:
                 error.result = self._result(
                     compiled, frames, iterations, residuals, masses, started, False
                 )
-                if isinstance(error, Interrupted):
-                    # the unfinished increment's iterations count too: a stop at iteration
-                    # 3910 of the first increment read "after 0 steps"
-                    error.result.steps += error.steps
+                # the unfinished increment's iterations count too: a stop at iteration 3910 of
+                # the first increment read "after 0 steps", one by max_iterations left them out
+                error.result.steps += error.steps
                 raise
             iterations.append(count)
             residuals.append(ratio)
@@ -470,6 +469,7 @@ class DynamicRelaxation:
                     f"dynamic relaxation produced non-finite forces in increment {increment} "
                     f"(load factor {load_factor:.4g}) at iteration {iteration}",
                     None,
+                    steps=iteration,
                 )
             if ok:
                 _warn_below_floor(balance.test, floor, self.tol, load_factor, unloaded)
@@ -510,6 +510,7 @@ class DynamicRelaxation:
                         f"{load_factor:.4g}) at iteration {iteration} even with the fictitious "
                         f"masses {_MAX_INFLATION:g} times their Gershgorin bound",
                         None,
+                        steps=iteration,
                     )
                 state, rotation_since_start = at_rest, rest_rotation.copy()
                 mass, inertia, dt = masses(state, inflate)
@@ -521,7 +522,9 @@ class DynamicRelaxation:
                 continue
 
             if plateau.stalled(iteration, ratio):
-                raise ConvergenceError(plateau.message(self, increment, load_factor, ratio), None)
+                raise ConvergenceError(
+                    plateau.message(self, increment, load_factor, ratio), None, steps=iteration
+                )
             if ratio <= _STALL_RATIO:
                 high_since = iteration + 1
             elif iteration - high_since >= self.stall_iterations and (
@@ -529,7 +532,9 @@ class DynamicRelaxation:
             ):
                 # The out-of-balance did not fall and the model has moved farther than its own
                 # size: nothing holds the motion (a slow but supported relaxation stays put).
-                raise ConvergenceError(_stall_message(model, increment, self, load_factor), None)
+                raise ConvergenceError(
+                    _stall_message(model, increment, self, load_factor), None, steps=iteration
+                )
 
             step = 0.5 * dt if restart else dt
             if self.damping == "viscous":
@@ -595,6 +600,7 @@ class DynamicRelaxation:
             "increments, or try the other damping ("
             f"{'kinetic' if self.damping == 'viscous' else 'viscous'}).",
             None,
+            steps=self.max_iterations,
         )
 
     @staticmethod

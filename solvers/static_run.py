@@ -63,6 +63,9 @@ class StaticRun:
         # history: a frame's reactions and tool forces are taken there (``frame``).
         self.balanced = self.state
         self.reached = 0.0
+        # The Newton iterations of the steps accepted since the last frame (``accept``): a
+        # stop part way through an increment counts them in the result's steps.
+        self.unframed_iterations = 0
         # The least force reference of the convergence test (solvers.convergence): 1e-300,
         # or with user amplitudes a share of the loads and reactions of the last converged
         # frame (solvers.force_floor.unloaded_floor), since such an amplitude may bring the
@@ -106,6 +109,10 @@ class StaticRun:
         self.dissipations = [model.dissipated_energy(self.state)]  # friction's, N mm
         self.progress = ProgressLine(resolve_progress(solver.progress), "static")
         self.negative: int | None = 0
+        # Whether an exact tangent factorised by Newton in the current attempt had a negative
+        # pivot (solvers/newton.py): with a stable start and end, the load step crossed an
+        # unstable stretch of the path (``note_jump``).
+        self.met_indefinite = False
         # The last converged state is a saddle that no push along its negative modes descends
         # from (solvers.saddles.judged): the next increment follows it by plain Newton.
         self.on_kept_saddle = False
@@ -213,6 +220,22 @@ class StaticRun:
             stacklevel=outside_stacklevel(),
         )
 
+    def note_jump(self, start: float, end: float) -> None:
+        """Record and warn that the load step from ``start`` to ``end`` crossed an unstable
+        stretch of the path: both ends stable, an iterate's tangent between them not
+        (docs/theory.md §6.5, "Load control past a limit point"). ``info["jumps"]`` gets the
+        load factor of the last state on the near branch, ``start``."""
+        self.info["jumps"].append(start)
+        message = (
+            f"load control jumped between load factors {start:.4g} and {end:.4g}: both states "
+            "are stable but the Newton iterates between them met a tangent with a negative "
+            "eigenvalue, a limit point or bifurcation the load steps passed over (a "
+            "snap-through); the path in between is not followed (info['jumps']; "
+            "path='arc_length' follows it)"
+        )
+        self.progress(message, force=True)
+        warnings.warn(message, UserWarning, stacklevel=outside_stacklevel())
+
     def pattern(self, phase: int):
         """(forces, moments, imposed displacements) per unit load factor in a phase."""
         upper = self.solver.loads(self.model, phase + 1.0)
@@ -281,6 +304,12 @@ class StaticRun:
         self.counts["stability_tangents"] += 1
         frames = self.model.dofs.frames(state.directors)
         return self.factorise(self._assemble(state, frames)[0])
+
+    @property
+    def last_factorisation(self) -> Factorisation | None:
+        """The last factorisation made (``factor_at`` reuses it where it was made at the
+        state asked for)."""
+        return self._factorised[1]
 
     # ------------------------------------------------------------------ configurations
     def place(self, state: State, load_factor: float) -> State:
@@ -413,7 +442,11 @@ class StaticRun:
         self.on_kept_saddle = False
         return state
 
-    def accept(self, state: State, load_factor: float) -> None:
+    def accept(self, state: State, load_factor: float, iterations: int = 0) -> None:
+        """Take ``state``, converged at ``load_factor`` in ``iterations`` Newton iterations,
+        as the last converged state (its frame is kept by ``frame`` at the end of the
+        increment, or by ``failure`` when the increment stops part way)."""
+        self.unframed_iterations += iterations
         if self.dashpots is not None:
             self.dissipated += self.dashpots.dissipated(state)
         motion = self.motion_between(self.state, self.reached, state, load_factor)
@@ -423,7 +456,7 @@ class StaticRun:
         self.state = self.model.commit(self.balanced)
 
     def frame(self, iterations: int, ratio: float, history: list[float]) -> None:
-        info, model, state = self.info, self.model, self.state
+        info, model = self.info, self.model
         info["load_factors"].append(self.reached)
         info["iterations_per_increment"].append(iterations)
         info["residual_ratio_per_increment"].append(ratio)
@@ -437,21 +470,16 @@ class StaticRun:
                 "bifurcation",
                 force=True,
             )
-        f_ext, m_ext, _ = self.solver.loads(model, self.reached)
-        # The reactions of the state Newton balanced, not of the committed one: the commit
-        # moves a sliding ply point's anchor to the friction limit, where rounding may count
-        # it stuck and its stick potential adds a normal force (and a couple) that no iterate
-        # balanced (docs/theory.md §6.5, "Reactions of a frictional increment"). The positions
-        # and directors are the same; the fields and energies keep the committed history.
-        balanced = self.balanced
-        reactions, reaction_moments = equilibrium_reactions(model, balanced, f_ext, m_ext)
+        self.unframed_iterations = 0
+        frame = self.reached_frame()
         if model.user_amplitudes():
+            f_ext, m_ext, _ = self.solver.loads(model, self.reached)
             self.reference_floor = max(
                 1e-300,
                 self.round_off,
-                unloaded_floor(model, f_ext, m_ext, reactions, reaction_moments),
+                unloaded_floor(model, f_ext, m_ext, frame.reactions, frame.reaction_moments),
             )
-        self.keep(make_frame(model, state, reactions, reaction_moments, balanced))
+        self.keep(frame)
         self.progress(
             f"increment {len(self.frames) - 1}: load factor {self.reached:.4g} converged in "
             f"{iterations} Newton iterations",
@@ -465,6 +493,20 @@ class StaticRun:
                 self.result(False),
                 STOP.signal,
             )
+
+    def reached_frame(self):
+        """A frame of the last converged state, at ``reached``, with its support reactions.
+
+        The reactions are those of the state Newton balanced, not of the committed one: the
+        commit moves a sliding ply point's anchor to the friction limit, where rounding may
+        count it stuck and its stick potential adds a normal force (and a couple) that no
+        iterate balanced (docs/theory.md §6.5, "Reactions of a frictional increment"). The
+        positions and directors are the same; the fields and energies keep the committed
+        history."""
+        model = self.model
+        f_ext, m_ext, _ = self.solver.loads(model, self.reached)
+        reactions, reaction_moments = equilibrium_reactions(model, self.balanced, f_ext, m_ext)
+        return make_frame(model, self.state, reactions, reaction_moments, self.balanced)
 
     def keep(self, frame) -> None:
         """Keep a frame of the last converged state (and write it, with ``output``)."""
@@ -493,15 +535,20 @@ class StaticRun:
         error = ConvergenceError(
             f"static solver stopped at load factor {self.reached:.6g}: {reason}{hint}.", None
         )
-        if self.reached > self.frames[-1].load_factor:  # keep the last good state
-            self.keep(make_frame(self.model, self.state))
+        if self.reached > self.frames[-1].load_factor:
+            # The last good state, part way through an increment (a cut's converged
+            # sub-increments), with the reactions that hold it like any other frame's.
+            self.keep(self.reached_frame())
         error.result = self.result(False)
         error.load_factor = self.reached
         return error
 
     def result(self, converged: bool) -> Result:
         result = empty_result(self.model, self.frames)
-        result.steps = int(sum(self.info["iterations_per_increment"]))
+        # The Newton iterations of every converged step: the framed increments' and those of
+        # an increment's converged sub-increments before a stop (the failed attempts'
+        # are info["iterations_cut"]).
+        result.steps = int(sum(self.info["iterations_per_increment"]) + self.unframed_iterations)
         result.wall_time = time.perf_counter() - self.started
         result.converged = converged
         result.energies = {

@@ -117,6 +117,22 @@ def test_a_relaxation_checkpoint_of_other_solver_settings_is_refused(
         relaxation(**settings).solve(cable(), checkpoint=relaxation_checkpoint)
 
 
+def test_a_checkpoint_of_another_solver_kind_is_refused_naming_both_kinds_first(
+    explicit_checkpoint, relaxation_checkpoint
+):
+    # Every setting of two kinds differs: the kind is what the user has to hear.
+    with pytest.raises(
+        ValueError,
+        match=r"written by another solver, CentralDifference \(this run is DynamicRelaxation\): ",
+    ):
+        relaxation().solve(cable(), checkpoint=explicit_checkpoint)
+    with pytest.raises(
+        ValueError,
+        match=r"written by another solver, DynamicRelaxation \(this run is CentralDifference\): ",
+    ):
+        explicit().solve(cable(), checkpoint=relaxation_checkpoint)
+
+
 def test_the_same_model_built_again_has_the_same_fingerprint():
     assert fingerprint(cable().compile()) == fingerprint(cable().compile())
 

@@ -79,6 +79,8 @@ def test_running_out_of_iterations_says_how_far_it_got(box_chain):
         solver.solve(hanging_cable(5000.0))
     assert error.value.result.converged is False
     assert len(error.value.result.frames) == 1  # only the reference state was good
+    # the 50 iterations spent on the increment that ran out count in the result's steps
+    assert error.value.result.steps == 50
 
 
 def test_prescribed_displacement_is_reached_and_reacted():

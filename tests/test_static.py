@@ -227,9 +227,18 @@ def test_load_control_jumps_the_snap_through_onto_the_far_stable_branch():
 
     model, rise, truss_force, travel = _von_mises_truss()
     far = brentq(lambda w: travel(w) - 6.0, 1.5 * rise, 6.0, xtol=1e-12)
-    result = Static(increments=12).solve(model)
+    with pytest.warns(UserWarning, match="load control jumped between load factors") as said:
+        result = Static(increments=12).solve(model)
     assert rise - result.positions[2, 2] == pytest.approx(far, rel=1e-6)
     assert result.info["negative_eigenvalues"][-1] == 0
+    # The jump is reported, once: at the start of the one load step that crosses the first
+    # limit of the closed form (0.7082, between 8/12 and 9/12), the last state on the near
+    # branch. Every frame is stable (no negative eigenvalue): only the Newton iterates of
+    # that step met the unstable stretch.
+    first_limit, _ = truss_limit_loads(travel)
+    assert result.info["negative_eigenvalues"] == [0] * 12
+    assert len(result.info["jumps"]) == 1 and len(said) == 1
+    assert result.info["jumps"][0] < first_limit <= result.info["jumps"][0] + 1.0 / 12
     # The arc length with at_limit="jump" follows the path to the limit point and then does
     # the same: it stops there (the first limit of the closed form) and lands on the far branch.
     jumped = Static(increments=12, path="arc_length", at_limit="jump").solve(model)
