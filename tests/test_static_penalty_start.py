@@ -54,8 +54,9 @@ def test_a_soft_start_bends_the_deck_in_fewer_iterations_to_the_same_equilibrium
     # the last), none cut (48). Since the Mindlin plies' fibre curvature is the deformed
     # fibre's (docs/theory.md §5.7) the plain bend takes 9-8-8-42 and 86 tangents in all
     # (111 on the code just before), the started one 10-9-6-20 (45). Bound: no cut, at most
-    # 25 in any increment, at most 0.6 of the plain bend's tangents. The equilibria: measured within 3.3e-10 mm; bound 1e-6 mm (Static's
-    # tolerance 1e-8 of the forces on a 100 mm strip, as tests/test_static_curved_contact.py):
+    # 25 in any increment, at most 0.6 of the plain bend's tangents. The equilibria:
+    # measured within 3.3e-10 mm; bound 1e-6 mm (Static's tolerance 1e-8 of the forces on a
+    # 100 mm strip, as tests/test_static_curved_contact.py):
     # the second phase solves the full law, so only the path differs.
     plain, started = _bend(None), _bend(deck.DECK_PENALTY_START)
     assert started.info["iterations_cut"] == 0
