@@ -54,7 +54,7 @@ class CompiledTangent:
         ``compression_free``: the element blocks that offer it (``compression_free_tangent``
         true, femcore.element: the fibrous shell, elements/fibrous/tangent.py
         ``membrane_hessian``) give their tangent with the fibres' compression left out of its
-        stress terms (beyond the compression of ``real``, the increment's start, where it is
+        stress terms (beyond the compression of ``real``, the last converged state, where it is
         given), the static solver's tangent far from equilibrium (docs/theory.md §6.5); the
         other parts give their own tangent as without it.
         """

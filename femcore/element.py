@@ -245,7 +245,7 @@ class ElementBlock(ReadOnlyState, ABC):
     ) -> Sequence[TangentPart] | None:
         """``tangent`` with the fibres' compression left out of its stress terms, asked only
         of a block that declares ``compression_free_tangent`` (femcore/compiled_tangent.py):
-        the compression beyond that of ``real``, the state the increment started from (whose
+        the compression beyond that of ``real``, the last converged state (whose
         compression is real, not a step's remainder), or all of it without ``real``. The
         default is ``tangent`` itself: a block without fibres has no compression to leave
         out."""

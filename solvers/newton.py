@@ -408,11 +408,13 @@ def _iterate(
         # of one): its fibres' compression is real, not a step's remainder, and there the
         # exact tangent is kept (a corner lowered by 40 mm, benchmarks/static_solver.py
         # line 1: 4-4-6-4 iterations with the compression-free tangent there, 4-4-4-4
-        # without); so is that compression at the later iterates (a column carries its
-        # load in compression: elements/fibrous/compression_floor.py).
+        # without); so is the compression of the last converged state at the later iterates
+        # (a column carries its load in compression: elements/fibrous/compression_floor.py;
+        # not the increment's start, which a predictor extrapolates: a straight update
+        # shortens turning fibres).
         slack = 0.0 < run.compression_free < ratio and iteration > 1
         run.info["compression_free_tangents"] += int(slack)
-        k_ff, k_fp = run.tangent(state, frames, slack, start if slack else None)
+        k_ff, k_fp = run.tangent(state, frames, slack, run.state if slack else None)
         rhs = r.ravel()[index]
         if moved_index.size:
             rhs = rhs - k_fp @ left.ravel()[moved_index]
@@ -720,7 +722,7 @@ class Tangent:
         real: State | None = None,
     ):
         """(K_ff, K_fp) at ``state``; ``compression_free``: the fibrous blocks' tangent with
-        their fibres' compression (beyond that of ``real``, the increment's start) left out
+        their fibres' compression (beyond that of ``real``, the last converged state) left out
         of its stress terms (docs/theory.md §6.5)."""
         model, dofs = self.model, self.model.dofs
         parts: list[TangentPart] | None

@@ -421,8 +421,8 @@ class FibrousShellBlock(ElementBlock):
         normals a sparse matrix and the bending patches, closed form; with element normals
         each cell's tension + shear by central differences of its loads.
         ``compression_free``: the tension's stress terms with the fibres' strains raised to
-        at least zero, or with ``real`` (a state whose compression is real: the increment's
-        start) to at least their compression there (tangent.py ``membrane_hessian``,
+        at least zero, or with ``real`` (a state whose compression is real: the last
+        converged one) to at least their compression there (tangent.py ``membrane_hessian``,
         compression_floor.py)."""
         floors = None
         if compression_free and real is not None:

@@ -191,7 +191,7 @@ def membrane_hessian(
     compression_free : the tension's stress terms (every term of T itself: the loads P_a
     and dW/dn that the second derivatives of g, n and D are contracted with, and the -2 T of
     d(T / l^2)) with each fibre's strain raised to at least its floor (``floors``: (warp,
-    weft) (m, L), the compression of the increment's start, compression_floor.py; None:
+    weft) (m, L), the compression of the last converged state, compression_floor.py; None:
     zero); the material term T'(eps) at the strain itself. Not the Hessian of W then, but
     the tangent that Newton's iterates far from equilibrium use (docs/theory.md §6.5):
     there a step's remainder compresses fibres whose stiffness is thousands of times the
