@@ -86,7 +86,8 @@ def remove_run_folder(folder: Path, extra: tuple[str, ...] = ()) -> None:
     with the checkpoint its summary.json names when that is in the folder), the files named
     in ``extra`` (what the command added beside the run), then the folder itself if nothing
     else is left in it (a user's own file keeps it). The folder is held while its files go
-    (fibreshell.folder_lock): one another command holds is refused (FolderInUse)."""
+    (fibreshell.folder_lock, which removes the staged lock records of killed commands:
+    ``remove_dead_staging``): one another command holds is refused (FolderInUse)."""
     if not folder.is_dir():
         return
     checkpoint = None

@@ -29,7 +29,7 @@ from fibreshell.folder_lock import (
     folder_lock,
     holder,
 )
-from fibreshell.outputs import checkpoint_collision
+from fibreshell.outputs import checkpoint_collision, remove_run_folder
 from fibreshell.run import run_case
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -334,6 +334,72 @@ def test_a_partly_written_lock_older_than_its_age_limit_is_taken_over(tmp_path):
         with folder_lock(out, "the run of 'b.toml'"):
             assert json.loads(lock.read_text())["task"] == "the run of 'b.toml'"
     assert not lock.exists()
+
+
+def test_a_link_reported_as_failed_on_nfs_that_was_made_is_the_lock_taken(tmp_path, monkeypatch):
+    """NFS v2/3: the server made the link, the reply was lost, the client's retry reports
+    EEXIST. The staged file then has two names (st_nlink 2): the lock is ours. Before, the
+    command was refused naming itself as the holder."""
+    import errno
+
+    import fibreshell.folder_lock as folder_lock_module
+
+    real_link = os.link
+
+    def link_reply_lost(source, target):
+        real_link(source, target)
+        raise FileExistsError(errno.EEXIST, "File exists")
+
+    out = tmp_path / "out"
+    out.mkdir()
+    monkeypatch.setattr(folder_lock_module.os, "link", link_reply_lost)
+    with folder_lock(out, "the run of 'a.toml'") as lock:
+        assert holder(out)["task"] == "the run of 'a.toml'"
+        assert sorted(p.name for p in out.iterdir()) == [lock.name]  # the staged name gone
+    assert list(out.iterdir()) == []
+
+
+def _staged(out: Path, pid: int, host: str, text: str | None = None) -> Path:
+    """A record written aside by a command ``pid`` of ``host`` and never linked (killed)."""
+    record = {"pid": pid, "host": host, "task": "the run of 'killed.toml'", "token": "x"}
+    path = out / f"{LOCK_FILE}.new-{pid}-0123abcd"
+    path.write_text(json.dumps(record) if text is None else text)
+    return path
+
+
+def test_a_staged_record_of_a_killed_command_goes_when_the_folder_is_next_locked(tmp_path):
+    """A command killed between writing its record aside and linking it left
+    fibreshell.lock.new-<pid>-<hex>, which nothing removed: the sweep's variant folder could
+    not be removed (rmdir: not empty). Now the next lock there removes it (its process has
+    ended), and a living command's staged record, another host's, or a young partial one
+    (a command writing it this instant) stay."""
+    out = tmp_path / "out"
+    out.mkdir()
+    dead = _staged(out, a_dead_pid(), socket.gethostname())
+    old_partial = _staged(out, a_dead_pid(), socket.gethostname(), text='{"pid": ')
+    old = time.time() - 2 * EMPTY_LOCK_AGE_S
+    os.utime(old_partial, (old, old))
+    living = _staged(out, os.getpid(), socket.gethostname())
+    far = _staged(out, 1, "another-machine")
+    young_partial = out / f"{LOCK_FILE}.checkpoint.pkl.new-{a_dead_pid()}-0123abce"
+    young_partial.write_text("")
+    with folder_lock(out, "the run of 'b.toml'"):
+        pass
+    assert sorted(p.name for p in out.iterdir()) == sorted(
+        p.name for p in (living, far, young_partial)
+    )
+    assert not dead.exists() and not old_partial.exists()
+
+
+def test_the_removal_of_a_variant_folder_removes_a_killed_commands_staged_record(tmp_path):
+    """The reviewer's case: the variant folder held the staged record alone after a kill -9,
+    and remove_run_folder left the folder behind."""
+    folder = tmp_path / "variant-1"
+    folder.mkdir()
+    (folder / "summary.json").write_text("{}")
+    _staged(folder, a_dead_pid(), socket.gethostname())
+    remove_run_folder(folder)
+    assert not folder.exists()
 
 
 def test_a_lock_of_bytes_that_are_not_text_is_refused_not_a_crash(tmp_path):
