@@ -47,7 +47,9 @@ from typing import Any
 
 from femcore.writable import OutputError
 
-__all__ = ["LOCK_FILE", "FolderInUse", "folder_lock", "holder", "remove_dead_staging"]
+__all__ = [
+    "LOCK_FILE", "FolderInUse", "folder_lock", "holder", "refuse_if_held", "remove_dead_staging",
+]  # fmt: skip
 
 # The lock's file name in the folder it guards (fibreshell.outputs: never a run's output,
 # never a checkpoint's name).
@@ -227,6 +229,39 @@ def _create(lock: Path, text: str) -> bool:
     return True
 
 
+def refuse_if_held(folder: Path, what: str) -> None:
+    """Refuse (FolderInUse) to write ``what`` into ``folder`` while another command holds that
+    folder's lock: a run's checkpoint placed in another run's output folder, where that run's
+    cleaning and its own files meet it. The folder is not taken (runs keeping their
+    checkpoints side by side in one folder outside their own run together), only looked at:
+    a lock of this process (a comparison or a sweep holding the folder its runs are in) or of
+    an ended process lets it pass; a living one of another process, another host's, or one
+    that cannot be read refuses it.
+
+    Parameters
+    ----------
+    folder : pathlib.Path
+        The folder ``what`` lands in.
+    what : str
+        It in the message ("the checkpoint '../a/ck.pkl'").
+    """
+    lock = Path(folder) / LOCK_FILE
+    record = _read(lock)
+    if record is None:
+        return
+    ours = record.get("pid") == os.getpid() and record.get("host") == socket.gethostname()
+    if ours or ("unreadable" not in record and _alive(record) is False):
+        return
+    if record.get("unwritten") and _left_unwritten(lock, record):
+        return
+    raise FolderInUse(
+        f"{what} lands in {str(folder)!r}, which is in use by {_describe(record)}: its run "
+        "removes and writes its files there as it goes; wait for it to end or give a "
+        f"checkpoint outside that folder (if no such command is running any more, delete "
+        f"{str(lock)!r})"
+    )
+
+
 #: A record written aside before it is linked as a lock (``_create``): the lock's name, then
 #: ``.new-<pid>-<8 hex>``.
 STAGED_FILE = re.compile(re.escape(LOCK_FILE) + r"(\..+)?\.new-[0-9]+-[0-9a-f]{8}")
@@ -243,7 +278,7 @@ def remove_dead_staging(folder: Path) -> list[Path]:
     list[pathlib.Path]
         The files removed.
     """
-    removed = []
+    removed: list[Path] = []
     try:
         names = [entry.name for entry in os.scandir(folder)]
     except OSError:

@@ -48,19 +48,22 @@ def is_run_output(name: str) -> bool:
 
 
 def checkpoint_collision(name: str | os.PathLike[str]) -> str | None:
-    """What a checkpoint at ``name`` (relative to the output folder) would overwrite, in
-    words ("'result.pvd', which the run writes in the output folder"), or None: a checkpoint named
-    ``result.pvd`` would turn the ParaView series into a pickle, one named ``history.csv``
-    be overwritten by the history at the end of the run."""
+    """What a checkpoint at ``name`` (relative to the output folder, or absolute) would
+    overwrite, in words ("'result.pvd', which a run writes in its output folder"), or None:
+    a checkpoint named ``result.pvd`` would turn a ParaView series into a pickle, one named
+    ``history.csv`` be overwritten by the history at the end of a run. Whatever folder it is
+    in: ``../a/result.pvd`` or ``saved/result.pvd`` is (or may become) another run's."""
     path = PurePath(os.path.normpath(name))
-    if len(path.parts) != 1:  # in a subfolder, or outside the folder
-        return None
     if is_run_output(path.name):
-        return f"{path.name!r}, which the run writes in the output folder"
+        return f"{path.name!r}, which a run writes in its output folder"
     if path.name == LOCK_FILE or path.name.startswith(LOCK_FILE + "."):
-        return f"{path.name!r}, the lock a command holds on the output folder while it writes"
+        return f"{path.name!r}, the lock a command holds on its folder while it writes"
     if path.name == VARIANT_FILE:
         return f"{path.name!r}, which a sweep writes in each variant's folder"
+    if path.name == MATERIAL_LINES:
+        return f"{path.name!r}, which a run of plies writes in its output folder"
+    if path.name in IDENTIFY_FILES:
+        return f"{path.name!r}, which an identification writes in its folder"
     return None
 
 

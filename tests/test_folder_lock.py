@@ -444,21 +444,29 @@ def test_a_lock_whose_record_cannot_be_written_is_not_left_behind(tmp_path, monk
 # ------------------------------------------------------------------ a checkpoint elsewhere
 @pytest.mark.parametrize(
     "first, second",
-    [("../shared.pkl", "../shared.pkl"), ("checkpoint.pkl", "../a/checkpoint.pkl")],
-    ids=["outside both folders", "in the first's folder"],
-)
+    [("../shared.pkl", "../shared.pkl"), ("checkpoint.pkl", "../a/checkpoint.pkl"),
+     (None, "../a/checkpoint.pkl")],
+    ids=["outside both folders", "in the first's folder", "the default of a static first"],
+)  # fmt: skip
 def test_two_runs_naming_one_checkpoint_file_from_two_folders_refuse_each_other(
     tmp_path, first, second
 ):
     """The lock of the output folder did not reach a checkpoint outside it: the second run
-    removed the first's checkpoint (its clean_run) and wrote its own over it."""
+    removed the first's checkpoint (its clean_run) and wrote its own over it. A static run
+    (first = None: no checkpoint) held none, though its cleaning removes checkpoint.pkl from
+    its folder: a second run's checkpoint there went."""
     import fibreshell.run as run_module
 
     relaxation = STATIC.replace('kind = "static"', 'kind = "relaxation"')
 
-    def case(name: str, checkpoint: str):
+    def case(name: str, checkpoint: str | None):
         path = tmp_path / name
-        path.write_text(relaxation.replace("[output]", f'checkpoint = "{checkpoint}"\n[output]'))
+        if checkpoint is None:  # a static run: no checkpoint of its own
+            path.write_text(STATIC)
+        else:
+            path.write_text(
+                relaxation.replace("[output]", f'checkpoint = "{checkpoint}"\n[output]')
+            )
         return load_case(path)
 
     refused = []
@@ -517,3 +525,24 @@ def test_a_report_holds_its_folder_while_its_cases_run(tmp_path, monkeypatch):
     report_module.run_cases([next(iter(CASES))], "coarse", out, echo=lambda *a, **k: None)
     assert seen[0]["pid"] == os.getpid() and "validation report" in seen[0]["task"]
     assert not (out / LOCK_FILE).exists()
+
+
+def test_a_checkpoint_in_a_folder_another_command_writes_in_is_refused(
+    tmp_path, other_process, capsys
+):
+    """The reviewer's case: run a going in a, run b with [solver] checkpoint = '../a/ck.pkl'
+    exited 0 and wrote its pickle among a's files (and '../a/result.pvd' removed a's series
+    and wrote it there). Both are refused now, exit status 2, a's files untouched."""
+    a = tmp_path / "a"
+    first_runs_files(a)
+    pid = other_process(a).pid
+    for name, said in (("../a/ck.pkl", f"lands in {str(a)!r}, which is in use by the run of "
+                                       f"'first.toml' (pid {pid}"),
+                       ("../a/result.pvd", "would overwrite 'result.pvd'")):  # fmt: skip
+        text = CASE.replace("damping = 100.0", f"damping = 100.0\ncheckpoint = {name!r}")
+        status = main(
+            ["run", str(case_file(tmp_path, text)), "--out", str(tmp_path / "b"), "--quiet"]
+        )
+        assert status == 2 and said in capsys.readouterr().err
+    assert kept_untouched(a) and not (a / "ck.pkl").exists()
+    assert not (tmp_path / "b" / "summary.json").exists()
