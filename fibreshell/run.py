@@ -63,7 +63,12 @@ class Run:
 
 
 def check_run_options(
-    kinematics=None, calibration=None, shear_ratio=None, bending_scale=None, transverse_shear=None
+    kinematics=None,
+    calibration=None,
+    shear_ratio=None,
+    bending_scale=None,
+    transverse_shear=None,
+    twisting=None,
 ) -> None:
     """Raise ValueError where a calibration or its numbers are given to a run whose
     ``kinematics`` is not "mindlin": a calibration makes the Mindlin shell of the fabric, and a
@@ -76,6 +81,7 @@ def check_run_options(
             ("shear_ratio", shear_ratio),
             ("bending_scale", bending_scale),
             ("transverse_shear", transverse_shear),
+            ("twisting", twisting),
         )
         if value is not None
     }
@@ -115,6 +121,7 @@ def run_case(
     shear_ratio: float | None = None,
     bending_scale: float | None = None,
     transverse_shear: float | None = None,
+    twisting: float | None = None,
     resume: bool = False,
     write_frames: bool = True,
 ) -> Run:
@@ -138,7 +145,7 @@ def run_case(
         The solver's progress bar on stderr (None: solvers.progress.resolve_progress).
     calibration : fibreshell.calibration.Calibration, str or None
         How the Mindlin shell is made of the fabric ("laws" by default, "fit" values or
-        "initial-slope"); shear_ratio, bending_scale, transverse_shear set its numbers
+        "initial-slope"); shear_ratio, bending_scale, transverse_shear, twisting set its numbers
         (``Calibration.from_options``: a sweep or a fit varies them).
     resume : bool
         Continue from the checkpoint in ``out`` (``[solver] checkpoint``, by default
@@ -174,7 +181,9 @@ def run_case(
         ``out`` cannot be written or is too full for the first frames, or a write failed
         during the run (the message names the file and what was kept).
     """
-    check_run_options(kinematics, calibration, shear_ratio, bending_scale, transverse_shear)
+    check_run_options(
+        kinematics, calibration, shear_ratio, bending_scale, transverse_shear, twisting
+    )
     check_kinematics(case, kinematics)
     mesh = case.mesh
     kind = case.solver["kind"]
@@ -185,7 +194,8 @@ def run_case(
     task = f"the run of {str(case.path)!r}"
     with folder_lock(out, task), _checkpoint_lock(case, out, task):
         return _run_locked(case, out, kinematics, progress, calibration, shear_ratio,
-                           bending_scale, transverse_shear, resume, write_frames)  # fmt: skip
+                           bending_scale, transverse_shear, twisting, resume,
+                           write_frames)  # fmt: skip
 
 
 def _checkpoint_lock(case: Case, out: Path, task: str) -> AbstractContextManager[Any]:
@@ -220,7 +230,7 @@ def _checkpoint_lock(case: Case, out: Path, task: str) -> AbstractContextManager
 
 
 def _run_locked(case, out, kinematics, progress, calibration, shear_ratio, bending_scale,
-                transverse_shear, resume, write_frames) -> Run:  # fmt: skip
+                transverse_shear, twisting, resume, write_frames) -> Run:  # fmt: skip
     """``run_case`` in its checked folder ``out``, which it holds (fibreshell.folder_lock)."""
     from fibreshell.calibration import Calibration
 
@@ -251,7 +261,9 @@ def _run_locked(case, out, kinematics, progress, calibration, shear_ratio, bendi
         clean_run(out, checkpoint)
     if checkpoint is not None:  # "[solver] checkpoint" may name a file in a subfolder
         check_folder(checkpoint.parent, "the checkpoint's folder")
-    rule = Calibration.from_options(calibration, shear_ratio, bending_scale, transverse_shear)
+    rule = Calibration.from_options(
+        calibration, shear_ratio, bending_scale, transverse_shear, twisting
+    )
     model = case.model(kinematics, rule)
     outputs: dict[str, Any] = {"progress": progress}
     options: dict[str, Any] = {}
