@@ -17,13 +17,15 @@ from __future__ import annotations
 import json
 import os
 import re
+from collections.abc import Iterator
+from contextlib import contextmanager
 from pathlib import Path, PurePath
 
 from fibreshell.folder_lock import LOCK_FILE, folder_lock
 
 __all__ = [
     "DEFAULT_CHECKPOINT", "IDENTIFY_FILES", "MATERIAL_LINES", "RUN_FILES", "VARIANT_FILE",
-    "checkpoint_collision", "clean_run", "is_run_output", "remove_run_folder",
+    "checkpoint_collision", "clean_run", "is_run_output", "remove_run_folder", "run_folder_lock",
 ]  # fmt: skip
 
 # The checkpoint of explicit and relaxation runs unless [solver] checkpoint names another.
@@ -84,6 +86,19 @@ def clean_run(out: Path, checkpoint: Path | None, extra: tuple[str, ...] = ()) -
             path.unlink(missing_ok=True)
 
 
+@contextmanager
+def run_folder_lock(folder: Path, task: str) -> Iterator[None]:
+    """Hold ``folder`` (fibreshell.folder_lock) and its default checkpoint's file, which
+    ``clean_run`` removes: another run may keep its checkpoint there (``[solver] checkpoint =
+    "../folder/checkpoint.pkl"``), holding that file's lock; then this is refused
+    (FolderInUse) rather than remove it."""
+    with (
+        folder_lock(folder, task),
+        folder_lock(folder, task, "the checkpoint", file=DEFAULT_CHECKPOINT),
+    ):
+        yield
+
+
 def remove_run_folder(folder: Path, extra: tuple[str, ...] = ()) -> None:
     """Remove a folder an earlier command wrote a run into: the run's files (``clean_run``,
     with the checkpoint its summary.json names when that is in the folder), the files named
@@ -102,7 +117,7 @@ def remove_run_folder(folder: Path, extra: tuple[str, ...] = ()) -> None:
         checkpoint = folder / Path(named).name
     # held while emptied: a command writing there now (fibreshell run --out into a sweep's
     # variant folder) keeps its files, and this command is refused
-    with folder_lock(folder, f"the removal of an earlier run's files from {str(folder)!r}"):
+    with run_folder_lock(folder, f"the removal of an earlier run's files from {str(folder)!r}"):
         clean_run(folder, checkpoint, extra)
     try:
         folder.rmdir()

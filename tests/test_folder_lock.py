@@ -546,3 +546,18 @@ def test_a_checkpoint_in_a_folder_another_command_writes_in_is_refused(
         assert status == 2 and said in capsys.readouterr().err
     assert kept_untouched(a) and not (a / "ck.pkl").exists()
     assert not (tmp_path / "b" / "summary.json").exists()
+
+
+def test_the_removal_of_a_run_folder_leaves_a_checkpoint_another_run_holds_there(tmp_path):
+    """A run whose [solver] checkpoint is '../variant-1/checkpoint.pkl' holds that file's lock;
+    the removal of the sweep's variant folder (its clean_run removes checkpoint.pkl) removed
+    it. Now it is refused, naming the holder, and the checkpoint stays."""
+    folder = tmp_path / "variant-1"
+    folder.mkdir()
+    (folder / "summary.json").write_text("{}")
+    (folder / "checkpoint.pkl").write_text("the other run's checkpoint")
+    with folder_lock(folder, "the run of 'other.toml'", file="checkpoint.pkl"):
+        with pytest.raises(FolderInUse, match="in use by the run of 'other.toml'"):
+            remove_run_folder(folder)
+    assert (folder / "checkpoint.pkl").read_text() == "the other run's checkpoint"
+    assert (folder / "summary.json").exists() and not (folder / LOCK_FILE).exists()
