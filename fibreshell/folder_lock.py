@@ -265,6 +265,9 @@ def refuse_if_held(folder: Path, what: str) -> None:
 #: A record written aside before it is linked as a lock (``_create``): the lock's name, then
 #: ``.new-<pid>-<8 hex>``.
 STAGED_FILE = re.compile(re.escape(LOCK_FILE) + r"(\..+)?\.new-[0-9]+-[0-9a-f]{8}")
+#: A dead holder's lock renamed aside by the command taking it over (``_take_over``), for the
+#: microseconds before it is removed or put back: ``.stale-<pid>-<8 hex>``.
+ASIDE_FILE = re.compile(re.escape(LOCK_FILE) + r"(\..+)?\.stale-[0-9]+-[0-9a-f]{8}")
 
 
 def remove_dead_staging(folder: Path) -> list[Path]:
@@ -272,6 +275,8 @@ def remove_dead_staging(folder: Path) -> list[Path]:
     when it was killed before linking them: those whose record names a process of this host
     that has ended (``_alive``), and those left empty or partly written more than
     EMPTY_LOCK_AGE_S ago. A living command's, another host's, or an unreadable one stays.
+    A lock renamed aside by a take-over (ASIDE_FILE) and still there EMPTY_LOCK_AGE_S later
+    was left by a command killed in those microseconds: removed too.
 
     Returns
     -------
@@ -284,6 +289,16 @@ def remove_dead_staging(folder: Path) -> list[Path]:
     except OSError:
         return removed
     for name in names:
+        if ASIDE_FILE.fullmatch(name) is not None:
+            aside = Path(folder) / name
+            try:
+                left = time.time() - aside.stat().st_mtime > EMPTY_LOCK_AGE_S
+            except OSError:
+                continue
+            if left:
+                aside.unlink(missing_ok=True)
+                removed.append(aside)
+            continue
         if STAGED_FILE.fullmatch(name) is None:
             continue
         staged = Path(folder) / name

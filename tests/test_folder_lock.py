@@ -383,12 +383,18 @@ def test_a_staged_record_of_a_killed_command_goes_when_the_folder_is_next_locked
     far = _staged(out, 1, "another-machine")
     young_partial = out / f"{LOCK_FILE}.checkpoint.pkl.new-{a_dead_pid()}-0123abce"
     young_partial.write_text("")
+    # a take-over's aside (a dead holder's lock renamed): gone once EMPTY_LOCK_AGE_S old
+    old_aside = out / f"{LOCK_FILE}.stale-{a_dead_pid()}-0123abcf"
+    old_aside.write_text(json.dumps({"pid": 12, "host": socket.gethostname()}))
+    os.utime(old_aside, (old, old))
+    young_aside = out / f"{LOCK_FILE}.stale-{os.getpid()}-0123abd0"
+    young_aside.write_text(json.dumps({"pid": 12, "host": socket.gethostname()}))
     with folder_lock(out, "the run of 'b.toml'"):
         pass
     assert sorted(p.name for p in out.iterdir()) == sorted(
-        p.name for p in (living, far, young_partial)
+        p.name for p in (living, far, young_partial, young_aside)
     )
-    assert not dead.exists() and not old_partial.exists()
+    assert not dead.exists() and not old_partial.exists() and not old_aside.exists()
 
 
 def test_the_removal_of_a_variant_folder_removes_a_killed_commands_staged_record(tmp_path):
