@@ -42,7 +42,9 @@ from materials.fabric import Fabric
 if TYPE_CHECKING:
     from elements.mindlin import MindlinShell
 
-__all__ = ["MindlinFabricBlock", "default_transverse_shear", "default_twisting"]
+__all__ = [
+    "MindlinFabricBlock", "NoDefaultStiffness", "default_transverse_shear", "default_twisting",
+]  # fmt: skip
 
 # The shear correction of a homogeneous section, as ElasticShell uses it.
 _SHEAR_FACTOR = 5.0 / 6.0
@@ -55,6 +57,12 @@ _LEVELS[6:10, 1, 3:7] = np.eye(4)  # transverse shear: tying changes at the mid-
 _PROJECTION = _LEVELS.reshape(10, 21)
 
 
+class NoDefaultStiffness(ValueError):
+    """The fabric's bending laws have a toe (zero initial slope B0): the defaults of the
+    transverse shear and twisting stiffness, both from B0, would be 0; the caller gives both
+    (fibreshell words where: a case file's part options, compare's options)."""
+
+
 def _initial_slope(law) -> float:
     return float(np.asarray(law.slope(np.array(0.0))))
 
@@ -64,7 +72,7 @@ def _bending_slope(fabric, what: str, unit: str) -> float:
     ``what`` when it is 0 (a law with a toe): a default of 0 would be a mechanism."""
     b0 = max(_initial_slope(fabric.bending), _initial_slope(fabric.bending_weft))
     if not b0 > 0.0:
-        raise ValueError(
+        raise NoDefaultStiffness(
             f"MindlinShell(fabric): the fabric's bending laws have zero slope at zero curvature "
             f"(B0 = {b0:g} N mm: a toe), so the default {what} from B0 would be 0, a "
             f"mechanism; give transverse_shear (N/mm) and twisting (N mm) explicitly (the "

@@ -42,8 +42,9 @@ class DeckSets:
     node_labels : dict[int, int]
         Node label -> index (the order of the *NODE blocks' lines in the deck, meshio's; a
         label given again is the later line's node, as the deck's reading gives it).
-    node_starts : list[int]
-        The index of each *NODE block's first node (its NSET= holds its nodes).
+    node_block_labels : list[list[int]]
+        Per *NODE block, the labels of its lines (its NSET= holds the nodes they name: a label
+        given again in a later line is that line's node, the one the elements use).
     node_count : int
         The node lines of every *NODE block (meshio's points).
     element_numbers : list[list[int]]
@@ -60,7 +61,7 @@ class DeckSets:
     files: list[Path] = field(default_factory=list)
     mesh_text: str = ""
     node_labels: dict[int, int] = field(default_factory=dict)
-    node_starts: list[int] = field(default_factory=list)
+    node_block_labels: list[list[int]] = field(default_factory=list)
     node_count: int = 0
     element_numbers: list[list[int]] = field(default_factory=list)
     element_lines: list[list[tuple[int, int, int]]] = field(default_factory=list)
@@ -115,9 +116,9 @@ def scan_deck_sets(path: Path) -> DeckSets:
                 deck.sets.append((mode, name, "GENERATE" in parameters, at, []))
                 continue  # not for meshio
             if mode == "NODE":
-                deck.node_starts.append(len(node_lines))
+                deck.node_block_labels.append([])
                 if parameters.get("NSET"):
-                    block = len(deck.node_starts) - 1
+                    block = len(deck.node_block_labels) - 1
                     deck.block_sets.append(("NSET", parameters["NSET"], block))
                 if node_at >= 0:
                     continue  # its lines join the first block's
@@ -140,6 +141,7 @@ def scan_deck_sets(path: Path) -> DeckSets:
                 label = line.split(",", 1)[0].strip()
                 if label.lstrip("+-").isdigit():
                     deck.node_labels[int(label)] = len(node_lines)
+                    deck.node_block_labels[-1].append(int(label))
                 node_lines.append(line)
             continue
         keep.append(line)
@@ -207,10 +209,12 @@ def resolve_deck_sets(
     cell_sets: dict[str, list[np.ndarray]] = {}
     # A name defined more than once (ELSET= on several *ELEMENT blocks, *NSET or *ELSET
     # repeated) is one set holding every definition's members, as Abaqus and CalculiX read it.
-    ends = [*deck.node_starts[1:], deck.node_count]
     for kind, name, block in deck.block_sets:
         if kind == "NSET":
-            nodes_of_block = np.arange(deck.node_starts[block], ends[block], dtype=np.int64)
+            # By label, not by line: a label the deck gives again later is the later line's
+            # node (the one the elements use, as Abaqus and CalculiX read it), and the block's
+            # own line of it an orphan point no set should hold.
+            nodes_of_block = node_index[nodes.find(deck.node_block_labels[block])]
             point_sets[name] = np.union1d(point_sets.get(name, nodes_of_block), nodes_of_block)
         else:
             before = cell_sets.get(name, [np.zeros(0, dtype=np.int64)] * len(sizes))

@@ -27,7 +27,7 @@ from typing import Any
 import numpy as np
 
 from elements import FibrousShell, MindlinShell
-from elements.mindlin_fabric import default_transverse_shear
+from elements.mindlin_fabric import NoDefaultStiffness, default_transverse_shear
 from femcore.checks import check_positive
 from materials import ElasticShell, Fabric
 
@@ -45,6 +45,14 @@ RULES = {
     "initial-slope": "ElasticShell.equivalent: E = 12 B0 / h^3 per direction from the initial "
     "bending slope, nu12 = 0, G12 = K0 / h, G13 = G23 = shear_ratio x E (membrane 12 B0 / h^2)",
 }
+
+
+#: How a run in the Mindlin kinematics is given the section's numbers a fabric's bending laws
+#: with a toe have no default for (``mindlin``; compare says its own options).
+RUN_ROUTE = (
+    "give them as the run's options transverse_shear and twisting (keys of a sweep or a fit: "
+    "--vary twisting=D; run_case(..., transverse_shear=S, twisting=D) in Python)"
+)
 
 
 def _slope(law) -> float:
@@ -65,6 +73,9 @@ class Calibration:
         Factor on both bending laws of "laws" and "fit" (> 0; 1 for "laws" as given).
     transverse_shear : float or None
         S, N/mm, of "laws" and "fit"; None: the default 5 B0 / h^2.
+    twisting : float or None
+        D_t, N mm, of "laws" and "fit"; None: the default B0 / 2 of the (scaled) laws. A
+        fabric whose bending laws have a toe (B0 = 0) needs both numbers (``check_section``).
     fitted : dict
         What a "fit" found (values, confidence intervals, residual, path): stated in the
         comparison.
@@ -74,6 +85,7 @@ class Calibration:
     shear_ratio: float = 0.5
     bending_scale: float = 1.0
     transverse_shear: float | None = None
+    twisting: float | None = None
     fitted: dict = field(default_factory=dict)
 
     def __post_init__(self) -> None:
@@ -85,6 +97,8 @@ class Calibration:
         check_positive(self.bending_scale, "calibration bending_scale", "-")
         if self.transverse_shear is not None:
             check_positive(self.transverse_shear, "calibration transverse_shear", "N/mm")
+        if self.twisting is not None:
+            check_positive(self.twisting, "calibration twisting", "N mm")
 
     @classmethod
     def from_options(
@@ -93,6 +107,7 @@ class Calibration:
         shear_ratio: float | None = None,
         bending_scale: float | None = None,
         transverse_shear: float | None = None,
+        twisting: float | None = None,
     ) -> Calibration:
         """A calibration from a name and the run options of a sweep or a fit (None: the
         rule's default; an option the rule does not use is refused)."""
@@ -109,7 +124,11 @@ class Calibration:
                     f"shear_ratio belongs to the initial-slope calibration, not {base.name!r}"
                 )
             changes["shear_ratio"] = shear_ratio
-        numbers = (("bending_scale", bending_scale), ("transverse_shear", transverse_shear))
+        numbers = (
+            ("bending_scale", bending_scale),
+            ("transverse_shear", transverse_shear),
+            ("twisting", twisting),
+        )
         for key, value in numbers:
             if value is not None:
                 if base.name == "initial-slope":
@@ -136,11 +155,31 @@ class Calibration:
             return MindlinShell(
                 ElasticShell.equivalent(fabric, self.shear_ratio, warp=element.warp)
             )
-        return MindlinShell(
-            self.section_fabric(fabric),
-            warp=element.warp,
-            transverse_shear=self.transverse_shear,
-        )
+        try:
+            return MindlinShell(
+                self.section_fabric(fabric),
+                warp=element.warp,
+                transverse_shear=self.transverse_shear,
+                twisting=self.twisting,
+            )
+        except NoDefaultStiffness as error:  # a toe: said how a run is given both numbers
+            raise ValueError(f"{error}; {RUN_ROUTE}") from None
+
+    def check_section(self, fabric: Fabric, route: str) -> None:
+        """Raise ValueError, ending with ``route`` (how the user gives the numbers from where
+        they are: compare's options, a case file's), where the Mindlin section of ``fabric``
+        cannot be made: bending laws with a toe (B0 = 0) and transverse_shear or twisting
+        not given, whose defaults from B0 would be 0 (elements.mindlin_fabric)."""
+        if self.name == "initial-slope":
+            return
+        try:
+            MindlinShell(
+                self.section_fabric(fabric),
+                transverse_shear=self.transverse_shear,
+                twisting=self.twisting,
+            )
+        except NoDefaultStiffness as error:
+            raise ValueError(f"{error}; {route}") from None
 
     def numbers(self, fabric: Fabric) -> dict[str, Any]:
         """The numbers this calibration gives the Mindlin shell of ``fabric`` (units in the
@@ -163,7 +202,7 @@ class Calibration:
             }
         laws = self.section_fabric(fabric)
         # the shell's own S and D_t, both from the scaled laws as ``mindlin`` builds it
-        shell = MindlinShell(laws, transverse_shear=self.transverse_shear)
+        shell = MindlinShell(laws, transverse_shear=self.transverse_shear, twisting=self.twisting)
         out = {
             "bending_law_warp": repr(laws.bending),
             "bending_law_weft": repr(laws.bending_weft),
@@ -199,5 +238,7 @@ class Calibration:
         if s is None and fabric is not None:  # the default of the scaled laws, as the shell's
             s = default_transverse_shear(self.section_fabric(fabric))
         shear = f", S = {s:.3g} N/mm" if s is not None else ""
+        if self.twisting is not None:
+            shear += f", D_t = {self.twisting:.3g} N mm"
         scale = f", bending x {self.bending_scale:.3g}" if self.bending_scale != 1.0 else ""
         return f"Mindlin calibration '{self.name}' (the fabric's laws{scale}{shear})"

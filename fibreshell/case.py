@@ -107,6 +107,7 @@ from elements import (
     RigidSurface,
 )
 from elements.layup import Layup
+from elements.mindlin_fabric import NoDefaultStiffness
 from femcore import Mesh, Model
 from fibreshell import registry
 from fibreshell.case_layup import layup_for, read_layup
@@ -566,6 +567,9 @@ def _part(where: _Where, value: dict) -> dict:
             element = cls(_material(where, kind, material), **options)
     except CaseError:
         raise
+    except NoDefaultStiffness as error:  # a Mindlin part on a fabric whose bending has a toe
+        route = "give both in the part's options = { transverse_shear = S, twisting = D }"
+        raise where.error("options", f"{error}; {route}") from None
     except (ValueError, TypeError) as error:
         raise where.error(None, str(error)) from None
     cells = value.get("cells")

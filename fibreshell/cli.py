@@ -84,6 +84,16 @@ def _parser() -> argparse.ArgumentParser:
                 help="G13 / E of --calibration initial-slope (default 0.5)",
             )  # fmt: skip
             command.add_argument(
+                "--transverse-shear", type=float, default=None, metavar="S",
+                help="transverse shear stiffness S (N/mm) of --calibration laws or fit (the "
+                "fit's start; default 5 B0 / h^2)",
+            )  # fmt: skip
+            command.add_argument(
+                "--twisting", type=float, default=None, metavar="D",
+                help="twisting stiffness D_t (N mm) of --calibration laws or fit (default "
+                "B0 / 2); a fabric whose bending law has a toe (B0 = 0) needs both",
+            )  # fmt: skip
+            command.add_argument(
                 "--fit-path", default=None,
                 help="the path --calibration fit matches (default: the first)",
             )  # fmt: skip
@@ -297,12 +307,14 @@ def _main(argv: list[str]) -> int:
         else:
             out = _out_folder(args.out, args.case, "-compare")
             # The calibration before the runs: a reader knows what is compared while waiting.
-            stated = calibration_lines(case, args.calibration, args.shear_ratio, args.kinematics)
+            stated = calibration_lines(case, args.calibration, args.shear_ratio, args.kinematics,
+                                       args.transverse_shear, args.twisting)  # fmt: skip
             for line in stated:
                 print(line, flush=True)
             runs = compare_case(
                 case, out, progress, calibration=args.calibration, kinematics=args.kinematics,
                 plies=args.plies, shear_ratio=args.shear_ratio, fit_path=args.fit_path,
+                transverse_shear=args.transverse_shear, twisting=args.twisting,
                 scheduler=args.scheduler, workers=args.workers,
             )  # fmt: skip
             comparison = json.loads((out / "comparison.json").read_text())

@@ -41,6 +41,12 @@ __all__ = [
 ]  # fmt: skip
 
 KINEMATICS = ("fibrous", "mindlin", "plies")
+#: How a comparison is given the Mindlin section's numbers a fabric's bending laws with a toe
+#: have no default for (Calibration.check_section).
+COMPARE_ROUTE = (
+    "give them to the comparison: fibreshell compare --transverse-shear S --twisting D "
+    "(compare_case(..., transverse_shear=S, twisting=D) in Python)"
+)
 DEFAULT_KINEMATICS = ("fibrous", "mindlin")
 COLOURS = {"fibrous": "tab:blue", "mindlin": "tab:orange", "plies": "tab:green"}
 # Sized for a report page: 9 in at 110 dpi is 990 px, shown at about 780 px on an 800-px
@@ -79,6 +85,8 @@ def compare_case(
     kinematics: Sequence[str] | str = DEFAULT_KINEMATICS,
     plies: int | None = None,
     shear_ratio: float | None = None,
+    transverse_shear: float | None = None,
+    twisting: float | None = None,
     fit_path: str | None = None,
     fit_evaluations: int = 30,
     scheduler: str | None = None,
@@ -108,6 +116,10 @@ def compare_case(
         Plies of the "plies" kinematics (default: the fabric's ply count where it has one).
     shear_ratio : float or None
         G13 / E of the "initial-slope" calibration (default 0.5).
+    transverse_shear, twisting : float or None
+        S (N/mm) and D_t (N mm) of the "laws" and "fit" sections (default 5 B0 / h^2 and
+        B0 / 2, B0 the initial bending slope; a fabric whose bending laws have a toe, B0 = 0,
+        needs both). The fit starts from S and keeps D_t.
     fit_path : str or None
         The path whose mid-surface the "fit" calibration matches (default: the first).
     fit_evaluations : int
@@ -147,6 +159,10 @@ def compare_case(
         rule = calibration
     else:
         rule = Calibration.from_options(calibration, shear_ratio)
+    if transverse_shear is not None or twisting is not None:
+        rule = Calibration.from_options(rule, None, None, transverse_shear, twisting)
+    if "mindlin" in chosen:
+        rule.check_section(fabric, COMPARE_ROUTE)
     if fitting and "mindlin" in chosen:
         _check_fit(case, fit_path, fit_evaluations)
         _check_cluster(scheduler, workers)
@@ -168,7 +184,7 @@ def compare_case(
             runs["fibrous"] = run_case(case, out / "fibrous", "fibrous", progress)
         if fitting and "mindlin" in chosen:
             rule = fit_calibration(
-                case, runs["fibrous"], out / "fit", fit_path, fit_evaluations,
+                case, runs["fibrous"], out / "fit", fit_path, fit_evaluations, start=rule,
                 scheduler=scheduler, workers=workers,
             )  # fmt: skip
         if "mindlin" in chosen:
@@ -310,6 +326,8 @@ def fit_calibration(
         "kinematics": ["mindlin"] * n,
         "calibration": ["laws"] * n,
     }
+    if start is not None and start.twisting is not None:  # kept, not fitted (a toe's D_t)
+        data["twisting"] = [start.twisting] * n
     fabric = _fabric(case)
     first = start or Calibration(name="fit")
     values0: dict[str, float | None] = {
@@ -340,6 +358,7 @@ def fit_calibration(
         name="fit",
         bending_scale=values["bending_scale"],
         transverse_shear=values["transverse_shear"],
+        twisting=first.twisting,
         fitted=fitted,
     )
 
@@ -438,6 +457,8 @@ def calibration_lines(
     calibration: str = "laws",
     shear_ratio: float | None = None,
     kinematics: Sequence[str] | str = DEFAULT_KINEMATICS,
+    transverse_shear: float | None = None,
+    twisting: float | None = None,
 ) -> list[str]:
     """What ``fibreshell compare`` prints before its runs: the Mindlin calibration it will
     use, its rule and the numbers it gives the section (the bending laws, S, ...); for "fit"
@@ -447,10 +468,12 @@ def calibration_lines(
     Raises
     ------
     ValueError
-        An unknown kinematics or calibration, a calibration number it refuses."""
+        An unknown kinematics or calibration, a calibration number it refuses, a section it
+        cannot make (bending laws with a toe without S and D_t: COMPARE_ROUTE)."""
     if "mindlin" not in _kinematics(kinematics) or _fabric(case) is None:
         return []
-    rule = Calibration.from_options(calibration, shear_ratio)
+    rule = Calibration.from_options(calibration, shear_ratio, None, transverse_shear, twisting)
+    rule.check_section(_fabric(case), COMPARE_ROUTE)
     if rule.name == "fit":
         return [
             f"calibration: fit: {rule.describe(None)['rule']}",

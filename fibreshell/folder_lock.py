@@ -23,12 +23,18 @@ is going. The record is written before the lock file appears (linked into place:
 a lock file found empty or partly written all the same (a file system without hard links, a
 command killed by an earlier version between creating its lock and writing it) is held until
 it is EMPTY_LOCK_AGE_S old, then taken over; a command whose record cannot be written (a full
-disk) leaves no lock and raises OutputError."""
+disk) leaves no lock and raises OutputError. A command killed between writing its record aside
+and linking it leaves that staged file (``fibreshell.lock.new-<pid>-<hex>``): the next command
+to take a lock in the folder removes it once its process has ended, as it would take over the
+lock (``remove_dead_staging``, which the removal of a sweep's variant folder calls too). On NFS
+v2/3 a ``link`` whose reply was lost is retried by the client and reports EEXIST although the
+link was made: the staged file's link count (2) tells it, and the lock is ours."""
 
 from __future__ import annotations
 
 import json
 import os
+import re
 import socket
 import sys
 import time
@@ -41,7 +47,9 @@ from typing import Any
 
 from femcore.writable import OutputError
 
-__all__ = ["LOCK_FILE", "FolderInUse", "folder_lock", "holder"]
+__all__ = [
+    "LOCK_FILE", "FolderInUse", "folder_lock", "holder", "refuse_if_held", "remove_dead_staging",
+]  # fmt: skip
 
 # The lock's file name in the folder it guards (fibreshell.outputs: never a run's output,
 # never a checkpoint's name).
@@ -205,7 +213,12 @@ def _create(lock: Path, text: str) -> bool:
     try:
         os.link(staged, lock)
     except FileExistsError:
-        return False
+        # NFS v2/3: the server made the link, its reply was lost, the client's retry found
+        # the name taken. Then the staged file has two names, and the lock is this record.
+        try:
+            return os.stat(staged).st_nlink == 2
+        except OSError:
+            return False
     except OSError:  # no hard links here
         try:
             _write_new(lock, text)
@@ -214,6 +227,90 @@ def _create(lock: Path, text: str) -> bool:
     finally:
         staged.unlink(missing_ok=True)
     return True
+
+
+def refuse_if_held(folder: Path, what: str) -> None:
+    """Refuse (FolderInUse) to write ``what`` into ``folder`` while another command holds that
+    folder's lock: a run's checkpoint placed in another run's output folder, where that run's
+    cleaning and its own files meet it. The folder is not taken (runs keeping their
+    checkpoints side by side in one folder outside their own run together), only looked at:
+    a lock of this process (a comparison or a sweep holding the folder its runs are in) or of
+    an ended process lets it pass; a living one of another process, another host's, or one
+    that cannot be read refuses it.
+
+    Parameters
+    ----------
+    folder : pathlib.Path
+        The folder ``what`` lands in.
+    what : str
+        It in the message ("the checkpoint '../a/ck.pkl'").
+    """
+    lock = Path(folder) / LOCK_FILE
+    record = _read(lock)
+    if record is None:
+        return
+    ours = record.get("pid") == os.getpid() and record.get("host") == socket.gethostname()
+    if ours or ("unreadable" not in record and _alive(record) is False):
+        return
+    if record.get("unwritten") and _left_unwritten(lock, record):
+        return
+    raise FolderInUse(
+        f"{what} lands in {str(folder)!r}, which is in use by {_describe(record)}: its run "
+        "removes and writes its files there as it goes; wait for it to end or give a "
+        f"checkpoint outside that folder (if no such command is running any more, delete "
+        f"{str(lock)!r})"
+    )
+
+
+#: A record written aside before it is linked as a lock (``_create``): the lock's name, then
+#: ``.new-<pid>-<8 hex>``.
+STAGED_FILE = re.compile(re.escape(LOCK_FILE) + r"(\..+)?\.new-[0-9]+-[0-9a-f]{8}")
+#: A dead holder's lock renamed aside by the command taking it over (``_take_over``), for the
+#: microseconds before it is removed or put back: ``.stale-<pid>-<8 hex>``.
+ASIDE_FILE = re.compile(re.escape(LOCK_FILE) + r"(\..+)?\.stale-[0-9]+-[0-9a-f]{8}")
+
+
+def remove_dead_staging(folder: Path) -> list[Path]:
+    """Remove from ``folder`` the staged lock records (STAGED_FILE) that their command left
+    when it was killed before linking them: those whose record names a process of this host
+    that has ended (``_alive``), and those left empty or partly written more than
+    EMPTY_LOCK_AGE_S ago. A living command's, another host's, or an unreadable one stays.
+    A lock renamed aside by a take-over (ASIDE_FILE) and still there EMPTY_LOCK_AGE_S later
+    was left by a command killed in those microseconds: removed too.
+
+    Returns
+    -------
+    list[pathlib.Path]
+        The files removed.
+    """
+    removed: list[Path] = []
+    try:
+        names = [entry.name for entry in os.scandir(folder)]
+    except OSError:
+        return removed
+    for name in names:
+        if ASIDE_FILE.fullmatch(name) is not None:
+            aside = Path(folder) / name
+            try:
+                left = time.time() - aside.stat().st_mtime > EMPTY_LOCK_AGE_S
+            except OSError:
+                continue
+            if left:
+                aside.unlink(missing_ok=True)
+                removed.append(aside)
+            continue
+        if STAGED_FILE.fullmatch(name) is None:
+            continue
+        staged = Path(folder) / name
+        record = _read(staged)
+        if record is None:  # linked and removed by its command meanwhile
+            continue
+        if _left_unwritten(staged, record) or (
+            "unreadable" not in record and _alive(record) is False
+        ):
+            staged.unlink(missing_ok=True)
+            removed.append(staged)
+    return removed
 
 
 @contextmanager
@@ -261,6 +358,7 @@ def folder_lock(
         "token": uuid.uuid4().hex,
     }
     text = json.dumps(record, indent=1) + "\n"
+    remove_dead_staging(folder)  # a killed command's record, which keeps the folder from rmdir
     for _ in range(3):  # a stale lock taken over, then created: a race lost twice is refused
         if not _create(lock, text):
             other = _read(lock)

@@ -17,13 +17,15 @@ from __future__ import annotations
 import json
 import os
 import re
+from collections.abc import Iterator
+from contextlib import contextmanager
 from pathlib import Path, PurePath
 
 from fibreshell.folder_lock import LOCK_FILE, folder_lock
 
 __all__ = [
     "DEFAULT_CHECKPOINT", "IDENTIFY_FILES", "MATERIAL_LINES", "RUN_FILES", "VARIANT_FILE",
-    "checkpoint_collision", "clean_run", "is_run_output", "remove_run_folder",
+    "checkpoint_collision", "clean_run", "is_run_output", "remove_run_folder", "run_folder_lock",
 ]  # fmt: skip
 
 # The checkpoint of explicit and relaxation runs unless [solver] checkpoint names another.
@@ -48,19 +50,22 @@ def is_run_output(name: str) -> bool:
 
 
 def checkpoint_collision(name: str | os.PathLike[str]) -> str | None:
-    """What a checkpoint at ``name`` (relative to the output folder) would overwrite, in
-    words ("'result.pvd', which the run writes in the output folder"), or None: a checkpoint named
-    ``result.pvd`` would turn the ParaView series into a pickle, one named ``history.csv``
-    be overwritten by the history at the end of the run."""
+    """What a checkpoint at ``name`` (relative to the output folder, or absolute) would
+    overwrite, in words ("'result.pvd', which a run writes in its output folder"), or None:
+    a checkpoint named ``result.pvd`` would turn a ParaView series into a pickle, one named
+    ``history.csv`` be overwritten by the history at the end of a run. Whatever folder it is
+    in: ``../a/result.pvd`` or ``saved/result.pvd`` is (or may become) another run's."""
     path = PurePath(os.path.normpath(name))
-    if len(path.parts) != 1:  # in a subfolder, or outside the folder
-        return None
     if is_run_output(path.name):
-        return f"{path.name!r}, which the run writes in the output folder"
+        return f"{path.name!r}, which a run writes in its output folder"
     if path.name == LOCK_FILE or path.name.startswith(LOCK_FILE + "."):
-        return f"{path.name!r}, the lock a command holds on the output folder while it writes"
+        return f"{path.name!r}, the lock a command holds on its folder while it writes"
     if path.name == VARIANT_FILE:
         return f"{path.name!r}, which a sweep writes in each variant's folder"
+    if path.name == MATERIAL_LINES:
+        return f"{path.name!r}, which a run of plies writes in its output folder"
+    if path.name in IDENTIFY_FILES:
+        return f"{path.name!r}, which an identification writes in its folder"
     return None
 
 
@@ -81,12 +86,26 @@ def clean_run(out: Path, checkpoint: Path | None, extra: tuple[str, ...] = ()) -
             path.unlink(missing_ok=True)
 
 
+@contextmanager
+def run_folder_lock(folder: Path, task: str) -> Iterator[None]:
+    """Hold ``folder`` (fibreshell.folder_lock) and its default checkpoint's file, which
+    ``clean_run`` removes: another run may keep its checkpoint there (``[solver] checkpoint =
+    "../folder/checkpoint.pkl"``), holding that file's lock; then this is refused
+    (FolderInUse) rather than remove it."""
+    with (
+        folder_lock(folder, task),
+        folder_lock(folder, task, "the checkpoint", file=DEFAULT_CHECKPOINT),
+    ):
+        yield
+
+
 def remove_run_folder(folder: Path, extra: tuple[str, ...] = ()) -> None:
     """Remove a folder an earlier command wrote a run into: the run's files (``clean_run``,
     with the checkpoint its summary.json names when that is in the folder), the files named
     in ``extra`` (what the command added beside the run), then the folder itself if nothing
     else is left in it (a user's own file keeps it). The folder is held while its files go
-    (fibreshell.folder_lock): one another command holds is refused (FolderInUse)."""
+    (fibreshell.folder_lock, which removes the staged lock records of killed commands:
+    ``remove_dead_staging``): one another command holds is refused (FolderInUse)."""
     if not folder.is_dir():
         return
     checkpoint = None
@@ -98,7 +117,7 @@ def remove_run_folder(folder: Path, extra: tuple[str, ...] = ()) -> None:
         checkpoint = folder / Path(named).name
     # held while emptied: a command writing there now (fibreshell run --out into a sweep's
     # variant folder) keeps its files, and this command is refused
-    with folder_lock(folder, f"the removal of an earlier run's files from {str(folder)!r}"):
+    with run_folder_lock(folder, f"the removal of an earlier run's files from {str(folder)!r}"):
         clean_run(folder, checkpoint, extra)
     try:
         folder.rmdir()

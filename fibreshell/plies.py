@@ -22,8 +22,7 @@ from elements import FibrousShell, MindlinShell
 from elements.plies import PlyStack
 from femcore.results import write_vtu
 from fibreshell.case import SOLVERS, Case
-from fibreshell.folder_lock import folder_lock
-from fibreshell.outputs import MATERIAL_LINES, clean_run
+from fibreshell.outputs import MATERIAL_LINES, clean_run, run_folder_lock
 from fibreshell.run import Run, path_axis, solve_keeping, strict_json
 
 __all__ = [
@@ -155,7 +154,7 @@ def run_plies(case: Case, out: Path, count: int | None = None, progress: bool | 
         largest gap and overlap between plies (mm) and the contact penalty.
     """
     out.mkdir(parents=True, exist_ok=True)
-    with folder_lock(out, f"the plies' run of {str(case.path)!r}"):
+    with run_folder_lock(out, f"the plies' run of {str(case.path)!r}"):
         clean_run(out, None, extra=(MATERIAL_LINES,))  # an earlier run's frames, by their names
         stack = ply_stack(case, count)
         model = stack_model(case, stack)

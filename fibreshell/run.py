@@ -10,7 +10,7 @@ import math
 import os
 import time
 import warnings
-from contextlib import AbstractContextManager, nullcontext
+from contextlib import AbstractContextManager, ExitStack
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -23,9 +23,9 @@ from femcore.results import Frame, Result
 from femcore.writable import FIRST_FRAMES, OutputError, check_folder, frame_bytes, series_frames
 from fibreshell.case import Case
 from fibreshell.case_reading import _Where
-from fibreshell.folder_lock import folder_lock
+from fibreshell.folder_lock import folder_lock, refuse_if_held
 from fibreshell.layup_summary import PENETRATION_SHARE, layup_summary
-from fibreshell.outputs import checkpoint_collision, clean_run
+from fibreshell.outputs import DEFAULT_CHECKPOINT, checkpoint_collision, clean_run
 from solvers import Interrupted, SolverError
 from solvers.common import SettingError
 from solvers.output import ENERGY_KEYS, CheckpointMismatch
@@ -63,7 +63,12 @@ class Run:
 
 
 def check_run_options(
-    kinematics=None, calibration=None, shear_ratio=None, bending_scale=None, transverse_shear=None
+    kinematics=None,
+    calibration=None,
+    shear_ratio=None,
+    bending_scale=None,
+    transverse_shear=None,
+    twisting=None,
 ) -> None:
     """Raise ValueError where a calibration or its numbers are given to a run whose
     ``kinematics`` is not "mindlin": a calibration makes the Mindlin shell of the fabric, and a
@@ -76,6 +81,7 @@ def check_run_options(
             ("shear_ratio", shear_ratio),
             ("bending_scale", bending_scale),
             ("transverse_shear", transverse_shear),
+            ("twisting", twisting),
         )
         if value is not None
     }
@@ -115,6 +121,7 @@ def run_case(
     shear_ratio: float | None = None,
     bending_scale: float | None = None,
     transverse_shear: float | None = None,
+    twisting: float | None = None,
     resume: bool = False,
     write_frames: bool = True,
 ) -> Run:
@@ -138,7 +145,7 @@ def run_case(
         The solver's progress bar on stderr (None: solvers.progress.resolve_progress).
     calibration : fibreshell.calibration.Calibration, str or None
         How the Mindlin shell is made of the fabric ("laws" by default, "fit" values or
-        "initial-slope"); shear_ratio, bending_scale, transverse_shear set its numbers
+        "initial-slope"); shear_ratio, bending_scale, transverse_shear, twisting set its numbers
         (``Calibration.from_options``: a sweep or a fit varies them).
     resume : bool
         Continue from the checkpoint in ``out`` (``[solver] checkpoint``, by default
@@ -174,7 +181,9 @@ def run_case(
         ``out`` cannot be written or is too full for the first frames, or a write failed
         during the run (the message names the file and what was kept).
     """
-    check_run_options(kinematics, calibration, shear_ratio, bending_scale, transverse_shear)
+    check_run_options(
+        kinematics, calibration, shear_ratio, bending_scale, transverse_shear, twisting
+    )
     check_kinematics(case, kinematics)
     mesh = case.mesh
     kind = case.solver["kind"]
@@ -185,25 +194,43 @@ def run_case(
     task = f"the run of {str(case.path)!r}"
     with folder_lock(out, task), _checkpoint_lock(case, out, task):
         return _run_locked(case, out, kinematics, progress, calibration, shear_ratio,
-                           bending_scale, transverse_shear, resume, write_frames)  # fmt: skip
+                           bending_scale, transverse_shear, twisting, resume,
+                           write_frames)  # fmt: skip
 
 
 def _checkpoint_lock(case: Case, out: Path, task: str) -> AbstractContextManager[Any]:
-    """The lock of the run's checkpoint file (``fibreshell.lock.<name>`` beside it), wherever
-    ``[solver] checkpoint`` puts it: in ``out``, a subfolder, or outside it (``../ck.pkl``, an
-    absolute path), where the lock of ``out`` does not reach. Two runs naming one checkpoint
-    file from different output folders would remove (clean_run) and resume from each other's;
-    the second is refused (fibreshell.folder_lock.FolderInUse), naming the first."""
+    """The locks of the checkpoint files the run writes or removes (``fibreshell.lock.<name>``
+    beside each): the one ``[solver] checkpoint`` names, wherever it puts it (in ``out``, a
+    subfolder, or outside it: ``../ck.pkl``, an absolute path, where the lock of ``out`` does
+    not reach), and ``out``'s default ``checkpoint.pkl``, which the run's cleaning removes
+    whatever its own checkpoint (clean_run). Two runs naming one checkpoint file from
+    different output folders would remove and resume from each other's; the second is
+    refused (fibreshell.folder_lock.FolderInUse), naming the first. A checkpoint outside
+    ``out`` in a folder another command holds (``../a/ck.pkl`` beside a run writing into
+    ``a``) is refused too (``refuse_if_held``)."""
     named = case.solver.get("checkpoint")
-    if named is None:
-        return nullcontext()
-    checkpoint = Path(os.path.normpath(out / named))  # "b/../shared.pkl": "shared.pkl"
-    folder = check_folder(checkpoint.parent, "the checkpoint's folder")
-    return folder_lock(folder, task, "the checkpoint", file=checkpoint.name)
+    checkpoints = [out / DEFAULT_CHECKPOINT]
+    if named is not None:
+        checkpoint = Path(os.path.normpath(out / named))  # "b/../shared.pkl": "shared.pkl"
+        folder = check_folder(checkpoint.parent, "the checkpoint's folder")
+        if folder.resolve() != out.resolve():
+            refuse_if_held(folder, f"the checkpoint {named!r}")
+        if checkpoint.resolve() != checkpoints[0].resolve():
+            checkpoints.append(folder / checkpoint.name)
+    stack = ExitStack()
+    try:
+        for checkpoint in checkpoints:
+            stack.enter_context(
+                folder_lock(checkpoint.parent, task, "the checkpoint", file=checkpoint.name)
+            )
+    except BaseException:
+        stack.close()
+        raise
+    return stack
 
 
 def _run_locked(case, out, kinematics, progress, calibration, shear_ratio, bending_scale,
-                transverse_shear, resume, write_frames) -> Run:  # fmt: skip
+                transverse_shear, twisting, resume, write_frames) -> Run:  # fmt: skip
     """``run_case`` in its checked folder ``out``, which it holds (fibreshell.folder_lock)."""
     from fibreshell.calibration import Calibration
 
@@ -211,14 +238,13 @@ def _run_locked(case, out, kinematics, progress, calibration, shear_ratio, bendi
     kind = case.solver["kind"]
     named = case.solver.get("checkpoint")
     checkpoint = None if named is None else out / named
-    if checkpoint is not None and checkpoint.resolve().parent == out.resolve():
-        # "../out/result.pvd" or an absolute path into the folder: the case file's check
-        # (fibreshell.case) sees only names relative to the folder
+    if checkpoint is not None:
+        # a Case not read from a file (fibreshell.case checks [solver] checkpoint as read)
         taken = checkpoint_collision(checkpoint.name)
         if taken is not None:
             raise ValueError(
-                f"the checkpoint {named!r} would overwrite {taken} ({str(out)!r}); give "
-                "[solver] checkpoint another name"
+                f"the checkpoint {named!r} would overwrite {taken}; give [solver] "
+                "checkpoint another name"
             )
     if resume:
         refuse_diverged_resume(out)
@@ -235,7 +261,9 @@ def _run_locked(case, out, kinematics, progress, calibration, shear_ratio, bendi
         clean_run(out, checkpoint)
     if checkpoint is not None:  # "[solver] checkpoint" may name a file in a subfolder
         check_folder(checkpoint.parent, "the checkpoint's folder")
-    rule = Calibration.from_options(calibration, shear_ratio, bending_scale, transverse_shear)
+    rule = Calibration.from_options(
+        calibration, shear_ratio, bending_scale, transverse_shear, twisting
+    )
     model = case.model(kinematics, rule)
     outputs: dict[str, Any] = {"progress": progress}
     options: dict[str, Any] = {}

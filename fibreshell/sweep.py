@@ -8,8 +8,8 @@ values can be set (``part.0.material.bending`` on ``material = "paper_stack"``).
 not in the file but choose how the case runs, as ``fibreshell compare`` does: ``kinematics``
 ("fibrous" or "mindlin": every fibrous part as the calibrated Mindlin shell), ``calibration``
 ("laws" or "initial-slope", fibreshell/calibration.py) and that calibration's numbers:
-``bending_scale`` and ``transverse_shear`` (N/mm) of "laws", ``shear_ratio`` (G13 / E) of
-"initial-slope" (alone, it implies that rule).
+``bending_scale``, ``transverse_shear`` (N/mm) and ``twisting`` (N mm) of "laws",
+``shear_ratio`` (G13 / E) of "initial-slope" (alone, it implies that rule).
 """
 
 from __future__ import annotations
@@ -51,6 +51,7 @@ RUN_KEYS = {
     "shear_ratio": None,
     "bending_scale": None,
     "transverse_shear": None,
+    "twisting": None,
 }
 _SPACES: dict[str, Any] = {"linspace": np.linspace, "geomspace": np.geomspace}
 #: The most variants a sweep runs unless told otherwise (``max_variants``, ``--max-variants``):

@@ -29,7 +29,7 @@ from fibreshell.folder_lock import (
     folder_lock,
     holder,
 )
-from fibreshell.outputs import checkpoint_collision
+from fibreshell.outputs import checkpoint_collision, remove_run_folder
 from fibreshell.run import run_case
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -336,6 +336,78 @@ def test_a_partly_written_lock_older_than_its_age_limit_is_taken_over(tmp_path):
     assert not lock.exists()
 
 
+def test_a_link_reported_as_failed_on_nfs_that_was_made_is_the_lock_taken(tmp_path, monkeypatch):
+    """NFS v2/3: the server made the link, the reply was lost, the client's retry reports
+    EEXIST. The staged file then has two names (st_nlink 2): the lock is ours. Before, the
+    command was refused naming itself as the holder."""
+    import errno
+
+    import fibreshell.folder_lock as folder_lock_module
+
+    real_link = os.link
+
+    def link_reply_lost(source, target):
+        real_link(source, target)
+        raise FileExistsError(errno.EEXIST, "File exists")
+
+    out = tmp_path / "out"
+    out.mkdir()
+    monkeypatch.setattr(folder_lock_module.os, "link", link_reply_lost)
+    with folder_lock(out, "the run of 'a.toml'") as lock:
+        assert holder(out)["task"] == "the run of 'a.toml'"
+        assert sorted(p.name for p in out.iterdir()) == [lock.name]  # the staged name gone
+    assert list(out.iterdir()) == []
+
+
+def _staged(out: Path, pid: int, host: str, text: str | None = None) -> Path:
+    """A record written aside by a command ``pid`` of ``host`` and never linked (killed)."""
+    record = {"pid": pid, "host": host, "task": "the run of 'killed.toml'", "token": "x"}
+    path = out / f"{LOCK_FILE}.new-{pid}-0123abcd"
+    path.write_text(json.dumps(record) if text is None else text)
+    return path
+
+
+def test_a_staged_record_of_a_killed_command_goes_when_the_folder_is_next_locked(tmp_path):
+    """A command killed between writing its record aside and linking it left
+    fibreshell.lock.new-<pid>-<hex>, which nothing removed: the sweep's variant folder could
+    not be removed (rmdir: not empty). Now the next lock there removes it (its process has
+    ended), and a living command's staged record, another host's, or a young partial one
+    (a command writing it this instant) stay."""
+    out = tmp_path / "out"
+    out.mkdir()
+    dead = _staged(out, a_dead_pid(), socket.gethostname())
+    old_partial = _staged(out, a_dead_pid(), socket.gethostname(), text='{"pid": ')
+    old = time.time() - 2 * EMPTY_LOCK_AGE_S
+    os.utime(old_partial, (old, old))
+    living = _staged(out, os.getpid(), socket.gethostname())
+    far = _staged(out, 1, "another-machine")
+    young_partial = out / f"{LOCK_FILE}.checkpoint.pkl.new-{a_dead_pid()}-0123abce"
+    young_partial.write_text("")
+    # a take-over's aside (a dead holder's lock renamed): gone once EMPTY_LOCK_AGE_S old
+    old_aside = out / f"{LOCK_FILE}.stale-{a_dead_pid()}-0123abcf"
+    old_aside.write_text(json.dumps({"pid": 12, "host": socket.gethostname()}))
+    os.utime(old_aside, (old, old))
+    young_aside = out / f"{LOCK_FILE}.stale-{os.getpid()}-0123abd0"
+    young_aside.write_text(json.dumps({"pid": 12, "host": socket.gethostname()}))
+    with folder_lock(out, "the run of 'b.toml'"):
+        pass
+    assert sorted(p.name for p in out.iterdir()) == sorted(
+        p.name for p in (living, far, young_partial, young_aside)
+    )
+    assert not dead.exists() and not old_partial.exists() and not old_aside.exists()
+
+
+def test_the_removal_of_a_variant_folder_removes_a_killed_commands_staged_record(tmp_path):
+    """The reviewer's case: the variant folder held the staged record alone after a kill -9,
+    and remove_run_folder left the folder behind."""
+    folder = tmp_path / "variant-1"
+    folder.mkdir()
+    (folder / "summary.json").write_text("{}")
+    _staged(folder, a_dead_pid(), socket.gethostname())
+    remove_run_folder(folder)
+    assert not folder.exists()
+
+
 def test_a_lock_of_bytes_that_are_not_text_is_refused_not_a_crash(tmp_path):
     out = tmp_path / "out"
     out.mkdir()
@@ -378,21 +450,29 @@ def test_a_lock_whose_record_cannot_be_written_is_not_left_behind(tmp_path, monk
 # ------------------------------------------------------------------ a checkpoint elsewhere
 @pytest.mark.parametrize(
     "first, second",
-    [("../shared.pkl", "../shared.pkl"), ("checkpoint.pkl", "../a/checkpoint.pkl")],
-    ids=["outside both folders", "in the first's folder"],
-)
+    [("../shared.pkl", "../shared.pkl"), ("checkpoint.pkl", "../a/checkpoint.pkl"),
+     (None, "../a/checkpoint.pkl")],
+    ids=["outside both folders", "in the first's folder", "the default of a static first"],
+)  # fmt: skip
 def test_two_runs_naming_one_checkpoint_file_from_two_folders_refuse_each_other(
     tmp_path, first, second
 ):
     """The lock of the output folder did not reach a checkpoint outside it: the second run
-    removed the first's checkpoint (its clean_run) and wrote its own over it."""
+    removed the first's checkpoint (its clean_run) and wrote its own over it. A static run
+    (first = None: no checkpoint) held none, though its cleaning removes checkpoint.pkl from
+    its folder: a second run's checkpoint there went."""
     import fibreshell.run as run_module
 
     relaxation = STATIC.replace('kind = "static"', 'kind = "relaxation"')
 
-    def case(name: str, checkpoint: str):
+    def case(name: str, checkpoint: str | None):
         path = tmp_path / name
-        path.write_text(relaxation.replace("[output]", f'checkpoint = "{checkpoint}"\n[output]'))
+        if checkpoint is None:  # a static run: no checkpoint of its own
+            path.write_text(STATIC)
+        else:
+            path.write_text(
+                relaxation.replace("[output]", f'checkpoint = "{checkpoint}"\n[output]')
+            )
         return load_case(path)
 
     refused = []
@@ -451,3 +531,39 @@ def test_a_report_holds_its_folder_while_its_cases_run(tmp_path, monkeypatch):
     report_module.run_cases([next(iter(CASES))], "coarse", out, echo=lambda *a, **k: None)
     assert seen[0]["pid"] == os.getpid() and "validation report" in seen[0]["task"]
     assert not (out / LOCK_FILE).exists()
+
+
+def test_a_checkpoint_in_a_folder_another_command_writes_in_is_refused(
+    tmp_path, other_process, capsys
+):
+    """The reviewer's case: run a going in a, run b with [solver] checkpoint = '../a/ck.pkl'
+    exited 0 and wrote its pickle among a's files (and '../a/result.pvd' removed a's series
+    and wrote it there). Both are refused now, exit status 2, a's files untouched."""
+    a = tmp_path / "a"
+    first_runs_files(a)
+    pid = other_process(a).pid
+    for name, said in (("../a/ck.pkl", f"lands in {str(a)!r}, which is in use by the run of "
+                                       f"'first.toml' (pid {pid}"),
+                       ("../a/result.pvd", "would overwrite 'result.pvd'")):  # fmt: skip
+        text = CASE.replace("damping = 100.0", f"damping = 100.0\ncheckpoint = {name!r}")
+        status = main(
+            ["run", str(case_file(tmp_path, text)), "--out", str(tmp_path / "b"), "--quiet"]
+        )
+        assert status == 2 and said in capsys.readouterr().err
+    assert kept_untouched(a) and not (a / "ck.pkl").exists()
+    assert not (tmp_path / "b" / "summary.json").exists()
+
+
+def test_the_removal_of_a_run_folder_leaves_a_checkpoint_another_run_holds_there(tmp_path):
+    """A run whose [solver] checkpoint is '../variant-1/checkpoint.pkl' holds that file's lock;
+    the removal of the sweep's variant folder (its clean_run removes checkpoint.pkl) removed
+    it. Now it is refused, naming the holder, and the checkpoint stays."""
+    folder = tmp_path / "variant-1"
+    folder.mkdir()
+    (folder / "summary.json").write_text("{}")
+    (folder / "checkpoint.pkl").write_text("the other run's checkpoint")
+    with folder_lock(folder, "the run of 'other.toml'", file="checkpoint.pkl"):
+        with pytest.raises(FolderInUse, match="in use by the run of 'other.toml'"):
+            remove_run_folder(folder)
+    assert (folder / "checkpoint.pkl").read_text() == "the other run's checkpoint"
+    assert (folder / "summary.json").exists() and not (folder / LOCK_FILE).exists()

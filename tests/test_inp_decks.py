@@ -2,6 +2,9 @@
 set: assemblies the reader cannot place, sets generated or listed as Abaqus's keyword rules
 allow, nodes and elements a set names that the deck does not define."""
 
+import os
+import shutil
+import subprocess
 import warnings
 from pathlib import Path
 
@@ -198,3 +201,76 @@ def test_a_set_names_the_node_its_label_defines_after_a_label_given_twice(tmp_pa
     text = NODES.replace(" 3, 10., 10., 0.\n", " 2, 10., 0., 0.\n 3, 10., 10., 0.\n")
     mesh = Mesh.read(deck(tmp_path, text + TRIANGLES + "*Nset, nset=five\n 5\n"))
     assert mesh.points[mesh.nodes("five")].tolist() == [[20.0, 0.0, 0.0]]
+
+
+# ----------------------------------------------- NSET= of a *NODE block, a label given twice
+TWICE = """*Heading
+*Node, nset=A
+ 1, 0., 0., 0.
+ 2, 1., 0., 0.
+ 3, 1., 1., 0.
+*Node, nset=B
+ 4, 0., 1., 0.
+ 2, 2., 0., 0.
+*Element, type=S3, elset=E
+ 1, 1, 2, 3
+ 2, 1, 3, 4
+"""
+#: Each label's node as the deck defines it: node 2 is the later line's, at (2, 0, 0).
+TWICE_POINTS = {1: [0.0, 0.0, 0.0], 2: [2.0, 0.0, 0.0], 3: [1.0, 1.0, 0.0], 4: [0.0, 1.0, 0.0]}
+
+
+def test_the_nset_of_a_node_block_holds_the_node_its_labels_name_after_a_label_given_twice(
+    tmp_path,
+):
+    """Node 2 given in block A, then again in block B: the elements use the later line's node,
+    and A = {1, 2, 3} holds that node too, as Abaqus's keyword rules read it (the set of a
+    *NODE block is its labels). A held the first line's point (1, 0, 0), which no element
+    uses, so a support on A left the elements' node 2 free."""
+    mesh = Mesh.read(deck(tmp_path, TWICE))
+    held = mesh.nodes("A")
+    assert np.isin(held, mesh.triangles).all()
+    assert sorted(mesh.points[held].tolist()) == sorted(TWICE_POINTS[k] for k in (1, 2, 3))
+    assert sorted(mesh.points[mesh.nodes("B")].tolist()) == sorted(TWICE_POINTS[k] for k in (2, 4))
+
+
+TWICE_JOB = """*INCLUDE, INPUT=mesh.inp
+*MATERIAL, NAME=M
+*ELASTIC
+1000., 0.3
+*SHELL SECTION, ELSET=E, MATERIAL=M
+0.1
+*NSET, NSET=ALLN
+1, 2, 3, 4
+*BOUNDARY
+A, 1, 6
+*STEP
+*STATIC
+*CLOAD
+4, 1, 1.
+*NODE PRINT, NSET=ALLN
+U
+*END STEP
+"""
+
+
+@pytest.mark.skipif(shutil.which("ccx") is None, reason="CalculiX (calculix-ccx) not installed")
+def test_the_nset_of_a_node_block_after_a_label_given_twice_is_the_set_calculix_holds(tmp_path):
+    """CalculiX 2.20 on the same deck, A held in every DOF and node 4 pulled (0.03 s): the
+    nodes it holds (displacement exactly 0) are those of labels 1, 2, 3, node 2 the one the
+    elements use (else the shell would be free at its corner 2); Mesh.read's A is those
+    nodes, at the points the deck gives their labels."""
+    (tmp_path / "mesh.inp").write_text(TWICE)
+    (tmp_path / "job.inp").write_text(TWICE_JOB)
+    env = dict(os.environ, OMP_NUM_THREADS="1")
+    subprocess.run(["ccx", "job"], cwd=tmp_path, env=env, capture_output=True, timeout=120)
+    dat = (tmp_path / "job.dat").read_text()
+    rows = dat.split("displacements", 1)[1].split("\n\n", 2)[1].splitlines()
+    moved = {
+        int(row.split()[0]): [float(v) for v in row.split()[1:]] for row in rows if row.strip()
+    }
+    held_by_ccx = sorted(label for label, u in moved.items() if not any(u))
+    assert held_by_ccx == [1, 2, 3] and any(moved[4])  # the peer's reading, not ours
+    mesh = Mesh.read(tmp_path / "mesh.inp")
+    held = sorted(mesh.points[mesh.nodes("A")].tolist())
+    assert held == sorted(TWICE_POINTS[k] for k in held_by_ccx)

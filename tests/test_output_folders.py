@@ -9,7 +9,7 @@ regular file (ENOTDIR) and by writers made to raise ENOSPC or EACCES."""
 import errno
 import os
 from collections import namedtuple
-from pathlib import Path
+from pathlib import Path, PurePath
 
 import pytest
 from test_interrupts import CASE, STATIC, hanging_cable
@@ -202,8 +202,20 @@ def test_a_checkpoint_path_that_lands_on_an_output_is_refused_before_the_run(tmp
         with pytest.raises(ValueError, match=r"would overwrite '(history.csv|result.pvd)'"):
             run_case(load_case(case_file(tmp_path, text)), out, progress=False)
     assert not (out / "history.csv").exists() and not (out / "result.pvd").exists()
-    elsewhere = CASE.replace("damping = 100.0", "damping = 100.0\ncheckpoint = 'saved/result.pvd'")
-    assert load_case(case_file(tmp_path, elsewhere)).solver["checkpoint"] == "saved/result.pvd"
+
+
+@pytest.mark.parametrize(
+    "name", ["saved/result.pvd", "../a/history.csv", "../a/result_00002.vtu", "/far/summary.json",
+             "../a/energies.csv"],
+)  # fmt: skip
+def test_a_checkpoint_named_as_a_runs_output_is_refused_in_any_folder(tmp_path, name):
+    """'../a/result.pvd' beside a run writing into a: the second run removed a's series and
+    wrote its pickle there, exit 0 (and 'saved/result.pvd' was let through). A file of a run's
+    name in any folder is, or may become, a run's."""
+    text = CASE.replace("damping = 100.0", f"damping = 100.0\ncheckpoint = {name!r}")
+    taken = PurePath(name).name
+    with pytest.raises(CaseError, match=rf"would overwrite '{taken}', which a run writes"):
+        load_case(case_file(tmp_path, text))
 
 
 def test_resume_without_a_checkpoint_is_refused(tmp_path, capsys):
