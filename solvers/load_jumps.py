@@ -59,10 +59,14 @@ def jumped(run: StaticRun, start: State, start_load: float, end: State, end_load
     tolerance = max(run.solver.tol, BACK_RATIO)
     step = np.zeros(model.n_nodes * N_COLUMNS)
     for _ in range(BACK_ITERATIONS):
+        if not (np.isfinite(state.positions).all() and np.isfinite(state.directors).all()):
+            return False  # the chords diverged: no proof either way
         frames = dofs.frames(state.directors)
         try:
             r, ratio, _ = back.residual(state, frames)
-        except IncrementFailed:  # no forces at that state: nothing to judge by
+        except (IncrementFailed, ValueError, FloatingPointError, ZeroDivisionError):
+            # No forces at that state (a part refuses it: the ply contact a non-finite one,
+            # a cell turned inside out): nothing to judge by. The run itself is unharmed.
             return False
         if not np.isfinite(ratio):
             return False

@@ -300,7 +300,9 @@ def test_the_plies_default_to_the_fabric_s_ply_count(tmp_path):
 
 
 # The G1151 strip in one increment without cuts: the fibrous shell converges, the Mindlin
-# shell of its laws stops at load factor 0 (25 iterations; the residual ratio 1.2e-3).
+# shell of its laws stops at load factor 0 at 16 iterations (measured: the fibrous shell
+# converges in 12, the Mindlin shell in 21 since its fibre curvature is the deformed fibre's;
+# it stopped at 25 before, residual ratio 1.2e-3).
 STOPPING_STRIP = """
 title = "G1151 strip, one increment"
 [mesh]
@@ -326,7 +328,7 @@ paths = { centre = { y_min = "50%", y_max = "50%" } }
 @pytest.mark.parametrize(
     "iterations, stopped",
     [
-        (25, "mindlin stopped at load factor 0"),
+        (16, "mindlin stopped at load factor 0"),
         (1, "fibrous stopped at load factor 0 and mindlin stopped at load factor 0"),
     ],
     ids=["mindlin-stops", "both-stop"],
