@@ -134,9 +134,9 @@ def _parser() -> argparse.ArgumentParser:
     command.add_argument("--sigma", default=None, metavar="COLUMN=VALUE,...",
                          help="the measurement uncertainty of response columns (data units): "
                          "each residual is divided by it (default 1)")  # fmt: skip
-    command.add_argument("--max-evaluations", type=int, default=30,
+    command.add_argument("--max-evaluations", type=int, default=34,
                          help="model evaluations the fit may make in all, its Jacobians' "
-                         "included (default 30; at least 3 x the fitted keys + 1)")  # fmt: skip
+                         "included (default 34; at least 5 x the fitted keys + 1)")  # fmt: skip
     _cluster_options(command, "-identify")
     commands.add_parser("report", help="run the validation cases and write the report "
                         "(fibreshell report --help)", add_help=False)  # fmt: skip

@@ -88,7 +88,7 @@ def compare_case(
     transverse_shear: float | None = None,
     twisting: float | None = None,
     fit_path: str | None = None,
-    fit_evaluations: int = 30,
+    fit_evaluations: int = 34,
     scheduler: str | None = None,
     workers: int | None = None,
 ) -> dict[str, Run]:
@@ -124,7 +124,7 @@ def compare_case(
         The path whose mid-surface the "fit" calibration matches (default: the first).
     fit_evaluations : int
         Model evaluations the "fit" may make in all, its Jacobians' included
-        (fibreshell.identify.identify's ``max_evaluations``; at least 7 for its two values).
+        (fibreshell.identify.identify's ``max_evaluations``; at least 11 for its two values).
     scheduler, workers
         Where the "fit" runs its evaluations: a Dask scheduler's address, or the worker
         processes of a LocalCluster started here (``fibreshell.cluster.dask_client``).
@@ -240,9 +240,9 @@ def remove_comparison(out: Path) -> None:
     (out / "comparison.json").unlink()
 
 
-# The fit's two values (bending_scale, transverse_shear): 3 n + 1 evaluations at the least
+# The fit's two values (bending_scale, transverse_shear): 5 n + 1 evaluations at the least
 # (fibreshell.identify.identify).
-FIT_FEWEST_EVALUATIONS = 7
+FIT_FEWEST_EVALUATIONS = 11
 
 
 def _check_fit(case: Case, path: str | None, max_evaluations: int) -> str:
@@ -265,7 +265,7 @@ def _check_fit(case: Case, path: str | None, max_evaluations: int) -> str:
     ):
         raise ValueError(
             f"fit evaluations must be an integer >= {FIT_FEWEST_EVALUATIONS} (a point and its "
-            f"2 shifted points, and 4 for the Jacobian at the end), got {max_evaluations!r}"
+            f"2 shifted points, and 8 for the Jacobian at the end), got {max_evaluations!r}"
         )
     return path
 
@@ -291,7 +291,7 @@ def fit_calibration(
     fibrous: Run,
     out: Path | None = None,
     path: str | None = None,
-    max_evaluations: int = 30,
+    max_evaluations: int = 34,
     start: Calibration | None = None,
     scheduler: str | None = None,
     workers: int | None = None,

@@ -38,7 +38,13 @@ from fibreshell.case import case_from_data, read_case_data
 from fibreshell.cluster import Failure, dask_client, map_tasks
 from fibreshell.confidence import below_zero, interval_text
 from fibreshell.folder_lock import folder_lock
-from fibreshell.identifiability import CORRELATION_BOUND, combination_text, determinacy
+from fibreshell.identifiability import (
+    CORRELATION_BOUND,
+    WIDEST,
+    combination_text,
+    determinacy,
+    reduced_combinations,
+)
 from fibreshell.outputs import IDENTIFY_FILES
 from fibreshell.run import strict_json
 from fibreshell.sweep import RUN_KEYS, apply_overrides, read_value, run_variant, summary_row
@@ -91,6 +97,7 @@ class Identification:
     correlated: list[str] = field(default_factory=list)
     singular_values: np.ndarray = field(default_factory=lambda: np.zeros(0))
     jacobian_error: float = float("nan")
+    direction_errors: np.ndarray = field(default_factory=lambda: np.zeros(0))
 
     @property
     def all_determined(self) -> bool:
@@ -122,6 +129,7 @@ class Identification:
             "correlation_bound": CORRELATION_BOUND,
             "singular_values": self.singular_values,
             "jacobian_error": self.jacobian_error,
+            "direction_errors": self.direction_errors,
             "undetermined_combinations": self.undetermined,
             "correlated": self.correlated,
             "determined_combinations": self.combinations,
@@ -257,7 +265,7 @@ def identify(
     workers: int | None = None,
     progress: bool | None = None,
     step: float = 1e-3,
-    max_evaluations: int = 30,
+    max_evaluations: int = 34,
     sigma: dict[str, float] | None = None,
     name: str | None = None,
 ) -> Identification:
@@ -282,9 +290,9 @@ def identify(
         Forward-difference step of the Jacobian, relative to the values.
     max_evaluations : int
         Model evaluations the fit may make in all (each one run per condition group): the
-        optimiser's points, its Jacobians' shifted points, and the 2 n points of the Jacobian
-        at the end (forward and backward differences), which are kept for it; at least
-        3 n + 1 (a point and a Jacobian for the optimiser). At the cap the fit stops at the
+        optimiser's points, its Jacobians' shifted points, and the 4 n points of the Jacobian
+        at the end (central differences with steps h and 2 h), which are kept for it; at
+        least 5 n + 1 (a point and a Jacobian for the optimiser). At the cap the fit stops at the
         best point it evaluated and says so (``success`` False).
     sigma : dict or None
         Response column -> its measurement uncertainty (data units; "z" for a profile): each
@@ -319,7 +327,7 @@ def identify(
     if not (0.0 < step < 0.1):
         raise ValueError(f"step must be in (0, 0.1) (relative), got {step!r}")
     keys = list(fit)
-    fewest = 3 * len(keys) + 1  # a point and its Jacobian, and the Jacobian at the end
+    fewest = 5 * len(keys) + 1  # a point and its Jacobian, and the Jacobian at the end
     if (
         isinstance(max_evaluations, bool)
         or not isinstance(max_evaluations, int)
@@ -328,7 +336,7 @@ def identify(
         raise ValueError(
             f"max_evaluations must be a whole number >= {fewest} for {len(keys)} fitted "
             f"key(s) (a point and its {len(keys)} shifted points for the optimiser, and "
-            f"{2 * len(keys)} for the Jacobian at the end), got {max_evaluations!r}"
+            f"{4 * len(keys)} for the Jacobian at the end), got {max_evaluations!r}"
         )
     columns = read_measurements(data)
     theta0 = start_values(tables, fit)
@@ -453,7 +461,7 @@ def identify(
                     cache[p] = ((model_values(summaries) - measured) / scale, summaries)
 
             # The optimiser's share of the cap: the rest is the Jacobian at the end.
-            budget = max_evaluations - 2 * len(keys)
+            budget = max_evaluations - 4 * len(keys)
 
             def residuals(p: np.ndarray) -> np.ndarray:
                 evaluate([p], budget)
@@ -482,26 +490,35 @@ def identify(
                 success = False
                 message = (
                     f"stopped at the cap of {max_evaluations} model evaluations (the "
-                    f"optimiser's {budget}, and {2 * len(keys)} kept for the Jacobian at the "
+                    f"optimiser's {budget}, and {4 * len(keys)} kept for the Jacobian at the "
                     "end); the values are the best evaluated: give more (max_evaluations)"
                 )
             solution = optimize.OptimizeResult(x=best, success=success, message=message)
-            forward = jacobian(solution.x, None)
-            # The backward differences too: their half difference from the forward ones is
-            # the Jacobian's measured error (fibreshell/identifiability.py).
-            backward_points = [solution.x - step * e for e in np.eye(len(keys))]
-            evaluate(backward_points)
-            base = cache[tuple(solution.x)][0]
-            backward = np.column_stack(
-                [(base - cache[tuple(q)][0]) / step for q in backward_points]
-            )
+            # Central differences at h and 2 h: the first is the Jacobian analysed, their
+            # difference its error (fibreshell/identifiability.py).
+            shifts = [s * step * e for s in (1.0, -1.0, 2.0, -2.0) for e in np.eye(len(keys))]
+            evaluate([solution.x, *(solution.x + shift for shift in shifts)])
+
+            def central(width: float) -> np.ndarray:
+                return np.column_stack([
+                    (cache[tuple(solution.x + width * e)][0]
+                     - cache[tuple(solution.x - width * e)][0]) / (2.0 * width)
+                    for e in np.eye(len(keys))
+                ])  # fmt: skip
+
+            narrow, wide = central(step), central(2.0 * step)
         m, n = len(measured), len(keys)
         values = np.exp(solution.x) * theta0
         final = cache[tuple(solution.x)][0]
         # In p = ln(theta / theta_0), where the parameters are alike in scale (the singular
         # values then say whether the data tell them apart, not how their units compare);
         # d theta = theta d p carries the covariance over.
-        found = determinacy(forward, backward, final, n)
+        # The round-off of a difference of two model values y (residual units) over 2 h.
+        rounding = float(np.finfo(float).eps * np.linalg.norm(np.abs(final) + np.abs(measured
+                                                                / scale)) / step)  # fmt: skip
+        # With a sigma for every response, the residuals are in units of the data's scatter.
+        known = 1.0 if set(weights) == set(named) else None
+        found = determinacy(narrow, wide, final, n, rounding, known, CONFIDENCE)
         half_width = stats.t.ppf(0.5 + CONFIDENCE / 2, m - n) if m > n else np.nan
         errors = np.where(
             found.determined, np.abs(values) * np.sqrt(np.diag(found.covariance_p)), np.nan
@@ -509,11 +526,20 @@ def identify(
         intervals = np.column_stack([values - half_width * errors, values + half_width * errors])
         combinations, undetermined, correlated = [], [], []
         if not found.all_determined:
-            for k in range(n):
-                text, exponents = combination_text(keys, found.vectors[:, k])
-                if k >= found.rank:
-                    undetermined.append(text)
+            # The determined combinations as a reduced basis of the determined span (p1 - p2
+            # and p3, not the singular vectors' mixes of them), leaving out a single
+            # parameter determined alone (its own interval says it); where every direction is
+            # determined (a pair correlated alone), the singular vectors themselves.
+            tolerance = max(found.share_bound, 1e-9)
+            if found.resolved.all():
+                spans = found.vectors.T
+            else:
+                spans = reduced_combinations(found.vectors[:, found.resolved], tolerance)
+            for vector in spans:
+                present = np.flatnonzero(np.abs(vector) > tolerance)
+                if len(present) == 1 and found.determined[present[0]]:
                     continue
+                text, exponents = combination_text(keys, vector, tolerance)
                 logarithm = float(exponents @ np.log(values))
                 spread = half_width * float(np.sqrt(exponents @ found.covariance_p @ exponents))
                 combinations.append({
@@ -524,6 +550,9 @@ def identify(
                         [logarithm - spread, logarithm + spread]
                     ),
                 })  # fmt: skip
+            if not found.resolved.all():
+                nulls = reduced_combinations(found.vectors[:, ~found.resolved], tolerance)
+                undetermined = [combination_text(keys, v, tolerance)[0] for v in nulls]
             correlated = [f"{keys[i]} and {keys[j]}: {c:+.5f}" for i, j, c in found.correlated]
         result = Identification(
             keys=keys,
@@ -550,6 +579,7 @@ def identify(
             correlated=correlated,
             singular_values=found.singular_values,
             jacobian_error=found.jacobian_error,
+            direction_errors=found.direction_errors,
         )
         if profile:
             assert path is not None
@@ -637,20 +667,27 @@ def format_result(result: Identification) -> str:
             interval = "no interval (as many data values as parameters)"
         lines.append(f"{key} = {value} (start {result.start[i]:.6g}), {interval}")
     correlation = result.correlation
-    if (
-        len(result.keys) > 1
-        and correlation.shape == (2 * (len(result.keys),))
-        and np.isfinite(correlation).any()
-    ):  # (none with as many data values as parameters)
-        lines.append("correlation of the fitted values (rows and columns in the order above):")
-        lines += ["  " + " ".join(f"{c:+.4f}" for c in row) for row in result.correlation]
+    # Correlations only among the values with a finite variance (identifiability.py leaves
+    # NaN for the others: a pseudo-inverse's correlation of an unbounded value is no number).
+    finite = (
+        np.flatnonzero(np.isfinite(np.diag(correlation)))
+        if correlation.shape == (2 * (len(result.keys),))
+        else np.zeros(0, dtype=int)
+    )
+    if len(finite) > 1:  # (none with as many data values as parameters)
+        shown = ", ".join(result.keys[i] for i in finite)
+        what = "fitted values" if len(finite) == len(result.keys) else f"values {shown}"
+        order = "in the order above" if len(finite) == len(result.keys) else "in that order"
+        lines.append(f"correlation of the {what} (rows and columns {order}):")
+        lines += ["  " + " ".join(f"{correlation[i, j]:+.4f}" for j in finite) for i in finite]
     if not result.all_determined:
         lines.append(
             "NOT DETERMINED: the data do not tell these values apart: "
             + "; ".join(
                 [
                     f"{text} is not determined (a singular value of the Jacobian within its "
-                    f"error {result.jacobian_error:.3g})"
+                    f"own error along it, or a 95 % interval wider than a factor {WIDEST:g} "
+                    "either way)"
                     for text in result.undetermined
                 ]
                 + [
@@ -659,6 +696,14 @@ def format_result(result: Identification) -> str:
                 ]
             )  # fmt: skip
         )
+        if len(result.direction_errors) == len(result.singular_values):
+            lines.append(
+                "singular values of dr/d(ln value) (their errors): "
+                + ", ".join(
+                    f"{s:.3g} ({e:.2g})"
+                    for s, e in zip(result.singular_values, result.direction_errors)
+                )
+            )
         for combination in result.combinations:
             low, high = combination[f"confidence_{int(100 * CONFIDENCE)}"]
             bounds = ""

@@ -29,6 +29,7 @@ __all__ = [
     "FRICTION_AT_START",
     "crossing_cycles",
     "describe_cycles",
+    "held_by_friction_alone",
     "stop_hint",
 ]
 
@@ -126,11 +127,12 @@ def describe_cycles(model: Any, positions: np.ndarray | None = None) -> str:
     )
 
 
-#: Said where a solve with friction stopped in its first increment (after its retry with stiff
-#: stick springs first, solvers/stick_start.py): a body held by friction alone has a static
-#: equilibrium only while its pull stays within mu times its press (Coulomb: it slides
-#: otherwise), and pressing it first is the way to that equilibrium that takes the contact's
-#: events one at a time.
+#: Said where a solve stopped in its first increment (after its retry with stiff stick springs
+#: first, solvers/stick_start.py) and a body is held by friction alone
+#: (``held_by_friction_alone``: its supports leave free a translation its loads push it
+#: along): it has a static equilibrium only while its pull stays within mu times its press
+#: (Coulomb: it slides otherwise), and pressing it first is the way to that equilibrium that
+#: takes the contact's events one at a time.
 FRICTION_AT_START = (
     "; a body held by friction alone has no static equilibrium where its pull passes mu "
     "times its press (it slides: DynamicRelaxation or an explicit run); below it, press it "
@@ -149,7 +151,8 @@ def stop_hint(
     """The end of a stopped static solve's message after its reason: "; " and the crease
     cycles of ``describe_cycles`` when there are some, else ". " and the contacts' hint on a
     model with interactions (with ``FRICTION_AT_START`` where it stopped ``at_start``, before
-    any increment converged, with a frictional interaction and not ``step_loads_first``),
+    any increment converged, not ``step_loads_first``, and a body is held by friction alone:
+    ``held_by_friction_alone``),
     else the generic hint of a limit point or buckling for the solver's ``path`` ("load" or
     "arc_length")."""
     cause = describe_cycles(model, positions)
@@ -165,8 +168,7 @@ def stop_hint(
             "DynamicRelaxation (path='arc_length' follows a limit point or buckling, not a "
             "contact's events)"
         )
-        frictional = any(block.friction > 0.0 for block in model.interactions)
-        if at_start and frictional and not step_loads_first:
+        if at_start and not step_loads_first and held_by_friction_alone(model):
             hint += FRICTION_AT_START
         return hint
     remedy = (
@@ -175,3 +177,65 @@ def stop_hint(
         else "try smaller increments or DynamicRelaxation"
     )
     return f". A limit point or buckling may be near: {remedy}"
+
+
+def held_by_friction_alone(model: Any) -> bool:
+    """Whether a body of ``model`` (a CompiledModel; a body: nodes joined by cells) that a
+    frictional interaction acts on is pushed by the dead loads (at load factor 1, and at
+    femcore.diagnostics USER_LEVELS where some loads have a user amplitude) along a
+    translation that neither its supports nor a frictionless interaction holds: only its
+    contacts hold it there, friction the pull (``FRICTION_AT_START``'s case). A body held
+    by its supports (a clamped blank under a frictional punch) is not; an interaction that
+    does not say what it holds (``held_directions`` None) is taken to hold every motion."""
+    from scipy.sparse import coo_matrix
+    from scipy.sparse.csgraph import connected_components
+
+    from femcore.diagnostics import USER_LEVELS
+
+    frictional = [block for block in model.interactions if block.friction > 0.0]
+    if not frictional:
+        return False
+    n = model.n_nodes
+    links = [np.zeros((0, 2), dtype=np.int64)]
+    for entry in model.block_entries:
+        cells = np.asarray(model.mesh.cells(entry.element.cell_type)[entry.cells])
+        # a chain through each cell's nodes joins them all
+        links.append(np.column_stack([cells[:, :-1].ravel(), cells[:, 1:].ravel()]))
+    pairs = np.concatenate(links)
+    graph = coo_matrix((np.ones(len(pairs)), (pairs[:, 0], pairs[:, 1])), shape=(n, n))
+    count, body = connected_components(graph, directed=False)
+    acted = np.zeros(count, dtype=bool)
+    touched = np.unique(np.concatenate([np.ravel(b.connectivity) for b in frictional]))
+    touched = np.setdiff1d(touched, model.rigid_nodes)  # a tool's own node is no body
+    acted[body[touched]] = True
+    # What holds each body without friction: its fixed or prescribed translations, and the
+    # directions a frictionless interaction holds at its nodes.
+    nodes = [np.flatnonzero(model.dofs.constrained[:, axis]) for axis in range(3)]
+    held_nodes = np.concatenate(nodes)
+    held = np.concatenate([np.tile(np.eye(3)[axis], (len(k), 1)) for axis, k in enumerate(nodes)])
+    for block in model.interactions:
+        if block.friction > 0.0:
+            continue
+        rows = block.held_directions()
+        if rows is None:
+            return False
+        held_nodes = np.concatenate([held_nodes, np.asarray(rows[0], dtype=np.int64).ravel()])
+        held = np.concatenate([held, np.asarray(rows[1], dtype=float).reshape(-1, 3)])
+    levels = [1.0] + (list(USER_LEVELS) if model.user_amplitudes() else [])
+    for level in levels:
+        force, _ = model.external_load(level, quasi_static=True)
+        force = np.where(np.isin(np.arange(n), model.rigid_nodes)[:, None], 0.0, force)
+        net = np.zeros((count, 3))
+        np.add.at(net, body, force)
+        size = max(float(np.abs(force).sum()), 1e-300)
+        for index in np.flatnonzero(acted & (np.linalg.norm(net, axis=1) > 1e-9 * size)):
+            # The translations the body's holders leave free, and the net load along them.
+            mine = held[body[held_nodes] == index]
+            if len(mine):
+                _, singular, vt = np.linalg.svd(mine, full_matrices=True)
+                free = vt[int(np.sum(singular > 1e-9)) :]
+            else:
+                free = np.eye(3)
+            if np.linalg.norm(free @ net[index]) > 1e-9 * size:
+                return True
+    return False

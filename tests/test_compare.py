@@ -164,7 +164,7 @@ def test_the_fit_calibration_recovers_the_bending_of_a_linear_fabric(tmp_path, d
     # On a scheduler of the caller's (a user's cluster; here the session's, tests/conftest.py,
     # whose workers have started already): the fit's runs are its tasks.
     fitted = fit_calibration(
-        case, fibrous, tmp_path / "fit", start=start, scheduler=dask_scheduler, max_evaluations=15
+        case, fibrous, tmp_path / "fit", start=start, scheduler=dask_scheduler, max_evaluations=19
     )
     assert fitted.name == "fit"
     assert fitted.bending_scale == pytest.approx(1.0, rel=0.02)

@@ -2,14 +2,20 @@
 ``stop_hint``): on a model with contacts, more increments or dynamic relaxation (a contact
 closing, opening or sliding inside an increment stops Newton, and the arc length follows a
 limit point, not a contact's events); on a model without, the arc length for a load path and
-smaller increments for an arc-length one."""
+smaller increments for an arc-length one. A first increment's stop adds that a body held by
+friction alone has no equilibrium past mu times its press (``FRICTION_AT_START``) only where
+a body is so held: the loads push it along a translation no support holds."""
 
 from types import SimpleNamespace
 
 import numpy as np
 
+from elements import MindlinShell, RigidPlane
+from elements.layup import Layup
+from femcore import Mesh, Model
 from femcore.interaction import InteractionBlock
-from solvers.stop_diagnosis import stop_hint
+from materials import ElasticShell, Fabric
+from solvers.stop_diagnosis import FRICTION_AT_START, held_by_friction_alone, stop_hint
 
 
 class _Tie(InteractionBlock):
@@ -35,3 +41,51 @@ def test_a_model_without_contacts_keeps_the_limit_points_hint():
     assert "try path='arc_length'" in stop_hint(SimpleNamespace(interactions=[]), None, "load")
     hint = stop_hint(SimpleNamespace(interactions=[]), None, "arc_length")
     assert "smaller increments" in hint
+
+
+def _plate_on_a_rough_floor(clamped: bool) -> Model:
+    """A 100 x 20 mm plate laid on the plane z = 0 (mu 0.3), pressed by its weight and
+    pulled along x at its right end; its left end clamped or not."""
+    thickness = 1.0
+    flat = Mesh.rectangle(100.0, 20.0, nx=4, ny=1)
+    model = Model(flat.with_points(flat.points + [0.0, 0.0, 0.5 * thickness]))
+    model.add(MindlinShell(ElasticShell(E=70e3, nu=0.3, thickness=thickness, density=2.7e-9)))
+    model.contact(RigidPlane((0.0, 0.0, 0.0), (0.0, 0.0, 1.0)), friction=0.3)
+    model.gravity((0.0, 0.0, -9810.0))
+    model.force(lambda x, y, z: x >= 100.0 - 1e-9, (0.01, 0.0, 0.0))
+    if clamped:
+        model.fix(lambda x, y, z: x <= 1e-9)
+    return model
+
+
+def test_a_clamped_body_under_a_rough_tool_is_not_said_to_be_held_by_friction_alone():
+    # The review's case: any frictional interaction added the hint to any first-increment
+    # stop, a clamped blank under a rough punch included, where the clamp holds the pull.
+    model = _plate_on_a_rough_floor(clamped=True).compile()
+    assert not held_by_friction_alone(model)
+    hint = stop_hint(model, None, "load", at_start=True)
+    assert "interactions (contacts" in hint and FRICTION_AT_START not in hint
+
+
+def test_a_body_pulled_along_a_rough_tool_with_nothing_else_holding_it_gets_the_hint():
+    model = _plate_on_a_rough_floor(clamped=False).compile()
+    assert held_by_friction_alone(model)
+    assert stop_hint(model, None, "load", at_start=True).endswith(FRICTION_AT_START)
+    # not after a converged increment, nor where the loads are stepped in first already
+    assert FRICTION_AT_START not in stop_hint(model, None, "load", at_start=False)
+    assert FRICTION_AT_START not in stop_hint(
+        model, None, "load", at_start=True, step_loads_first=True
+    )
+
+
+def test_a_ply_pulled_on_a_held_ply_is_held_by_friction_alone_unless_it_is_held_itself():
+    ply = Fabric(thickness=0.3, areal_density=2.85e-10, tension=60.0, shear=0.2, bending=0.375)
+    for held in (False, True):
+        layup = Layup(ply, (0.0, 90.0), 20.0, cells=2, friction=0.3, kinematics="mindlin")
+        model = layup.model()
+        bottom, top = layup.ply_nodes
+        model.fix(bottom)
+        model.force([int(n) for n in top], (0.01, 0.0, -0.1))
+        if held:
+            model.fix([int(top[0])], ["ux", "uy", "uz"])
+        assert held_by_friction_alone(model.compile()) is not held
