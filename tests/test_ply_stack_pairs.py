@@ -10,6 +10,7 @@ import pytest
 
 from elements.layup import Layup
 from elements.ply_contact import PlyContactBlock
+from femcore.state import State
 from materials import Fabric
 from solvers import Static
 
@@ -93,3 +94,108 @@ def test_a_two_ply_stack_is_joined_as_before():
 def test_pairs_must_be_a_known_choice():
     with pytest.raises(ValueError, match="pairs must be one of"):
         Layup(PLY, (0.0, 90.0), SIDE, cells=2, pairs="some")
+
+
+# A consolidation pressure, 0.1 MPa on the 20 x 20 mm stack: under it, at the automatic
+# penalty, each neighbour pair gives 0.84 h, so a pair that is not neighbours, h apart at
+# the start, closes while the ply between is still there (elements/ply_between.py)
+PRESSURE = 0.1  # MPa
+PRESSED = PRESSURE * SIDE**2  # N
+
+
+def _area_shares(layup, k):
+    """Ply k's nodes (1 = bottom) and their shares of its area (lumped by triangle thirds)."""
+    x = layup.mesh.points
+    tri = layup.mesh.triangles[layup.ply_cells[k - 1]]
+    area = 0.5 * np.abs(np.cross(x[tri[:, 1]] - x[tri[:, 0]], x[tri[:, 2]] - x[tri[:, 0]])[:, 2])
+    lumped = np.bincount(tri.ravel(), np.repeat(area / 3.0, 3), layup.mesh.n_nodes)
+    nodes = layup.ply_nodes[k - 1]
+    return nodes, lumped[nodes] / lumped[nodes].sum()
+
+
+def _pressed_stack(kinematics, middle_held=("ux", "uy"), **options):
+    """A [0/0/0] stack, every ply in place, laid a smoothing width into each other (so that
+    the contacts hold from the first iterate), the bottom ply held, the top one held in its
+    plane, the middle one along ``middle_held``; the automatic penalty."""
+    layup = Layup(PLY, (0.0, 0.0, 0.0), SIDE, cells=2, kinematics=kinematics, **options)
+    bottom, middle, top = layup.ply_nodes
+    moved = layup.mesh.points.copy()
+    moved[middle, 2] -= 2e-3 * PLY.thickness
+    moved[top, 2] -= 4e-3 * PLY.thickness
+    layup.mesh = layup.mesh.with_points(moved)
+    model = layup.model()
+    model.fix(bottom)
+    model.fix(middle, list(middle_held))
+    model.fix(top, ["ux", "uy"])
+    return layup, model
+
+
+def _press(layup, model, amplitude):
+    nodes, shares = _area_shares(layup, 3)
+    for node, share in zip(nodes, shares):
+        model.force([int(node)], (0.0, 0.0, -PRESSED * share), amplitude=amplitude)
+
+
+# the fibrous plies at the automatic penalty (each pair gives 0.84 h under the load); the
+# Mindlin plies' automatic penalty is stiffer (sized on their own step), so that the pairs give
+# 0.5 h together, short of the gap: given, 15 N/mm a node, theirs gives 0.78 h a pair
+@pytest.mark.parametrize(
+    "kinematics, penalty", [("fibrous", None), ("mindlin", 15.0)], ids=["fibrous", "mindlin"]
+)
+def test_a_pressed_stack_carries_the_whole_load_through_the_middle_ply(kinematics, penalty):
+    # statics of a stack in place: ply 3 rests on ply 2 alone, which rests on ply 1, so ply 2
+    # on ply 1 carries the whole load and ply 3 on ply 1 nothing, at any penalty; before, the
+    # penalties' give closed the 3-on-1 gap and that pair pushed beside ply 2 (fibrous: 0.27
+    # of the load)
+    layup, model = _pressed_stack(kinematics, penalty=penalty)
+    _press(layup, model, "linear")
+    result = Static(increments=2, progress=False, seek_stable=False).solve(model)
+    compiled = model.compile()
+    pairs = [b for b in compiled.interactions if isinstance(b, PlyContactBlock)]
+    assert len(pairs) == 3  # 2 on 1, 3 on 2, then 3 on 1 (join_plies' order)
+    state = State(
+        result.positions,
+        np.nan_to_num(result.directors),
+        np.zeros((layup.mesh.n_nodes, 3)),
+        np.zeros((layup.mesh.n_nodes, 3)),
+    )
+    bottom, middle, top = layup.ply_nodes
+    # each pair's F_int = dW/dx on ply 1's nodes: the force ply 1 pushes up with, the load
+    # the pair carries down onto it (the Newton tolerance is far below the 1e-6 asked)
+    two_on_one = pairs[0].internal_force(state)[0][bottom, 2].sum()
+    three_on_one = pairs[2].internal_force(state)[0]
+    assert two_on_one == pytest.approx(PRESSED, rel=1e-6)
+    assert np.abs(three_on_one).max() == 0.0  # no point of the pair acts
+    assert result.reactions[bottom, 2].sum() == pytest.approx(PRESSED, rel=1e-6)
+    # the pair's gap has closed indeed (its faces into each other): what made it act before
+    assert np.mean(result.positions[top, 2] - result.positions[bottom, 2]) < PLY.thickness
+
+
+def test_a_pressed_middle_ply_holds_below_coulombs_pull():
+    # Coulomb's pull-out of the middle ply: both its faces carry P, so it sticks for a pull
+    # T < 2 mu P (16 N here); pulled by 0.85 of that after the press, it holds, as it does
+    # with the neighbours' pairs alone. Before, the 3-on-1 pair took 0.27 of P past ply 2,
+    # which then slid at 2 mu (0.73 P) = 11.7 N: at 13.6 N the solve found no equilibrium
+    mu = 0.2
+    pull = 0.85 * 2 * mu * PRESSED
+    layup, model = _pressed_stack("fibrous", middle_held=("uy",), friction=mu)
+    _press(layup, model, "step")
+    nodes, shares = _area_shares(layup, 2)
+    for node, share in zip(nodes, shares):
+        model.force([int(node)], (pull * share, 0.0, 0.0), amplitude="linear")
+    result = Static(increments=4, progress=False, seek_stable=False, step_loads_first=True).solve(
+        model
+    )
+    bottom, middle, top = layup.ply_nodes
+    # stuck: each face's stick springs (k_t = W'' = k_p, pressed past the smoothing) carry
+    # T / 2, so ply 2 moves by T / (2 sum k_p), the springs of one face's pair; to 1e-4 (the
+    # ply's own stretch between its pull and its friction, both shared by area: 1e-6
+    # measured)
+    pairs = [b for b in model.compile().interactions if isinstance(b, PlyContactBlock)]
+    give = pull / (2.0 * float(np.sum(pairs[0].stiffness)))
+    assert result.displacements[middle, 0] == pytest.approx(np.full(len(middle), give), rel=1e-4)
+    # equilibrium along x: the pull goes out through both faces' friction to the held plies
+    # (symmetric: the same pressure on both faces)
+    held = result.reactions[bottom, 0].sum() + result.reactions[top, 0].sum()
+    assert held == pytest.approx(-pull, rel=1e-6)
+    assert result.reactions[bottom, 0].sum() == pytest.approx(-pull / 2, rel=1e-3)
