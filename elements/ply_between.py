@@ -16,10 +16,14 @@ faces and surface, its points' ply) with ply i in place of the other ply, fricti
 never calibrated, whose facing alone is asked. At each state the pair's facing (every consumer
 reads it: loads, energy, tangent, friction, sides, springs) counts a point as touching only
 where no probe finds it facing its ply: its projection within the probe's margin of a triangle
-(``MARGIN``, ``MARGIN_CURVED`` on curved faces) and not in the fade past the outline (w = 1),
-the test elements/ply_start.py makes of a point beside the outline. A point in a between ply's
-fade band is left to the pair: there the neighbour's contact fades and the pair holds the
-point, so the two overlap over the fade's length rather than leave a hole. The switch is not
+(``MARGIN``, ``MARGIN_CURVED`` on curved faces) and, on flat faces, its fade past the outline
+above ``HELD_FADE``: the between ply's own contact holds the point with more than half its
+weight there. Not w = 1, the start check's test of a point beside the outline
+(elements/ply_start.py): plies of one outline have points on it, the mirrored pass's at the
+nodes, and a thousandth of a cell past it (w = 0.99986 on the pressed stack's 10-mm cells)
+they lost the shield and the pair pushed them (8.1 N of 40 on ply 1's nodes at 5 N/mm). Past
+the middle of the fade the pair holds the point, where the neighbour's contact has faded,
+rather than leave a hole. The switch is not
 smooth: a point passing a between ply's outline while already pressed into ply j takes its
 force at once. Such a point has come through a ply's outline it was on, and the pair's force
 there is what stops it falling through; a smooth hand-over would need the fade of the pair by
@@ -37,17 +41,22 @@ from elements.ply_curved import MARGIN_CURVED
 from elements.ply_projection import MARGIN, Facing
 from femcore.state import State
 
-__all__ = ["faces_ply", "shielded"]
+__all__ = ["HELD_FADE", "faces_ply", "shielded"]
+
+#: A point past a between ply's outline is shielded while that ply's contact holds it with
+#: more than this share of its weight (its fade w, elements/ply_fade.py): the fade's middle.
+HELD_FADE = 0.5
 
 
 def faces_ply(facing: Facing, curved: bool) -> np.ndarray:
     """(P,) bool: the points whose projection lands on the facing ply: within the contact's
     margin of the facing triangle (``facing.weights`` (P, 3) its barycentric coordinates) and,
-    on flat faces, not in the fade past the outline (``facing.fade`` (P,) is 1 there)."""
+    on flat faces, short of the fade's middle past the outline (``facing.fade`` (P,) above
+    ``HELD_FADE``)."""
     overshoot = np.maximum(0.0, -np.asarray(facing.weights).min(axis=1))
     faces = overshoot <= (MARGIN_CURVED if curved else MARGIN)
     if facing.fade is not None:
-        faces &= np.asarray(facing.fade) >= 1.0
+        faces &= np.asarray(facing.fade) > HELD_FADE
     return faces
 
 

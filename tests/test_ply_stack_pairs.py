@@ -178,6 +178,31 @@ def test_a_pressed_stack_carries_the_whole_load_through_the_middle_ply(kinematic
     assert np.mean(result.positions[top, 2] - result.positions[bottom, 2]) < PLY.thickness
 
 
+def test_the_mirrored_passes_of_a_pressed_stack_go_through_the_middle_ply_too():
+    # with the mirrored passes (points on the lower ply, at its nodes: on the plies' common
+    # outline), soft enough (5 N/mm a node) that the 3-on-1 faces pass each other: the two
+    # passes of ply 2 on ply 1 carry the whole load, those of ply 3 on ply 1 nothing (before:
+    # no equilibrium from load factor 0.07; with the shield's w = 1 test the mirrored 3-on-1
+    # pass took 8.1 N at the outline nodes)
+    layup, model = _pressed_stack("fibrous", lower_rule="nodes", penalty=5.0)
+    _press(layup, model, "linear")
+    result = Static(increments=2, progress=False, seek_stable=False).solve(model)
+    pairs = [b for b in model.compile().interactions if isinstance(b, PlyContactBlock)]
+    assert len(pairs) == 6  # (2 on 1, 3 on 2, 3 on 1), each with its mirrored pass
+    state = State(
+        result.positions,
+        np.nan_to_num(result.directors),
+        np.zeros((layup.mesh.n_nodes, 3)),
+        np.zeros((layup.mesh.n_nodes, 3)),
+    )
+    bottom, _, top = layup.ply_nodes
+    assert np.mean(result.positions[top, 2] - result.positions[bottom, 2]) < PLY.thickness
+    carried = sum(p.internal_force(state)[0][bottom, 2].sum() for p in pairs[:2])
+    assert carried == pytest.approx(PRESSED, rel=1e-6)
+    for pair in pairs[4:]:
+        assert np.abs(pair.internal_force(state)[0]).max() == 0.0
+
+
 @pytest.mark.slow  # an explicit run of 400 steps: some 3 s
 def test_an_explicit_press_goes_through_the_middle_ply_alone():
     # the explicit step reads the same facing: pressed smoothly to 0.1 MPa over 5 ms and at
