@@ -143,8 +143,9 @@ class Layup:
         (default): one pass, the upper ply's points alone.
     pairs : str
         Which plies touch, ``elements.ply_contact.PAIRS``: "all" (default), every ply on every
-        ply below it (a pair that are not neighbours acts where the plies between them have
-        left: a middle ply drawn out of the stack); "neighbours", ply k + 1 on ply k alone
+        ply below it (a pair that are not neighbours acts only at its points that face none of
+        the plies between them, where those have left: a middle ply drawn out of the stack;
+        elements/ply_between.py); "neighbours", ply k + 1 on ply k alone
         (``elements.ply_contact.join_plies``).
 
     Attributes

@@ -16,6 +16,7 @@ import numpy as np
 from scipy.spatial import cKDTree
 
 from elements import (
+    ply_between,
     ply_block_tangent,
     ply_curved,
     ply_curved_friction,
@@ -235,6 +236,10 @@ class PlyContactBlock(InteractionBlock):
         # the next loads take (elements/ply_friction_kernels.py ``updated_history``)
         self._next_sliding: tuple | None = None
         self._held_at: tuple | None = None  # the last facing held by sides (ply_sides.py)
+        # the probes of the plies between a pair that are not neighbours, each the same
+        # points on one of them (``PlyContact.bind``, elements/ply_between.py); none: a pair of
+        # neighbours, its facing as it was
+        self.between: tuple[PlyContactBlock, ...] = ()
 
     def check_start(self) -> None:
         """Refuse plies that start through each other, report a visible overlap
@@ -442,6 +447,9 @@ class PlyContactBlock(InteractionBlock):
             found = begun
         else:
             found = self._found(state, second, begun)
+        # a pair that is not neighbours: silent at the points facing a ply between
+        # (elements/ply_between.py), for every consumer of this facing alike
+        found = ply_between.shielded(self.between, state, found, self.curved)
         for value in vars(found).values():
             if isinstance(value, np.ndarray):
                 value.setflags(write=False)

@@ -245,6 +245,11 @@ class PlyContact(Interaction):
         converged state is an equilibrium of the plain k/2 min(g, 0)^2
         (elements/ply_active_set.py; frictionless flat faces only). The explicit solver and
         dynamic relaxation take the ramp with either.
+    between : tuple of str or (b,) int
+        The plies between the two, each a triangle cell-set name or triangle ids (default
+        none: neighbours): the contact acts only at its points that face none of them
+        (elements/ply_between.py; ``join_plies`` gives a pair that is not neighbours its
+        plies between).
 
     Raises
     ------
@@ -252,7 +257,7 @@ class PlyContact(Interaction):
         Empty or non-integer selections, a negative or non-finite offset or smoothing, a
         penalty that is not a positive number, fewer than one candidate, an unknown rule,
         faces, surface, points or static_law, static_law "active_set" with friction or
-        curved faces; at
+        curved faces, a ``between`` that is not a tuple or list of selections; at
         bind, unknown set names, ids out of range, triangles of no area (coincident or
         collinear corners, named), nodes of the upper triangles that are corners of the
         lower triangles, nodes without directors.
@@ -276,6 +281,7 @@ class PlyContact(Interaction):
         surface: str = "flat",
         points: str = "upper",
         static_law: str = "ramp",
+        between: tuple[str | np.ndarray | list[int], ...] = (),
     ):
         self.upper = upper if isinstance(upper, str) else _ids(upper, "upper triangle")
         self.lower = lower if isinstance(lower, str) else _ids(lower, "lower triangle")
@@ -339,6 +345,14 @@ class PlyContact(Interaction):
                 f"friction={self.friction!r}, surface={surface!r}"
             )
         self.static_law = static_law
+        if isinstance(between, (str, np.ndarray)) or not isinstance(between, (tuple, list)):
+            raise ValueError(
+                "between must be a tuple of the plies between the two (triangle set names or "
+                f"triangle ids), got {between!r}"
+            )
+        self.between = tuple(
+            ply if isinstance(ply, str) else _ids(ply, "between triangle") for ply in between
+        )
 
     def bind(self, body: Body) -> PlyContactBlock:
         mesh = body.mesh
@@ -399,8 +413,30 @@ class PlyContact(Interaction):
         if self.points == "lower":  # the points on the lower ply's upper face, x + b d
             # against the upper ply's lower face, x - a d, its triangles turned so that their
             # normal points towards the lower ply (module docstring, "Both ways")
-            return kind(self, cells, above[:, [0, 2, 1]], -b, -a, smoothing, body)
-        return kind(self, above, cells, a, b, smoothing, body)
+            block = kind(self, cells, above[:, [0, 2, 1]], -b, -a, smoothing, body)
+        else:
+            block = kind(self, above, cells, a, b, smoothing, body)
+        block.between = tuple(self._probe(ply).bind(body) for ply in self.between)
+        return block
+
+    def _probe(self, ply: str | np.ndarray) -> PlyContact:
+        """The same contact with ``ply`` (one of the plies between) in place of the ply its
+        points face, frictionless, on the ramp: its facing tells which points face that ply
+        (elements/ply_between.py)."""
+        upper, lower = (ply, self.lower) if self.points == "lower" else (self.upper, ply)
+        return PlyContact(
+            upper,
+            lower,
+            self.upper_offset,
+            self.lower_offset,
+            self.penalty,
+            self.candidates,
+            self.rule,
+            self.smoothing,
+            faces=self.faces,
+            surface=self.surface,
+            points=self.points,
+        )
 
 
 def _refuse_flat(points: np.ndarray, triangles: np.ndarray, ids: np.ndarray, name: str) -> None:
@@ -462,10 +498,11 @@ def join_plies(
     ``half_thickness`` (mm) from the mid-surfaces; ``options`` (penalty, rule, smoothing,
     friction, ...) go to every one. The neighbours come first, ply 2 on ply 1 to ply N on
     ply N - 1 (interactions 0 .. N - 2, as ``join_neighbours`` adds them), then the pairs
-    that are not neighbours, ply 3 on ply 1, ply 4 on ply 2, ply 4 on ply 1, ...: a gap of
-    the plies between them apart, positive while those plies are there, so that such a pair
-    acts only where the plies between have left (a middle ply drawn out of the stack;
-    docs/theory.md §9.3b, "Plies that are not neighbours"). With ``lower_rule`` (a key of
+    that are not neighbours, ply 3 on ply 1, ply 4 on ply 2, ply 4 on ply 1, ...: each told
+    the plies between (``between``), so that it acts only at its points that face none of
+    them, where those plies have left (a middle ply drawn out of the stack), however far the
+    penalties' give has closed its gap (docs/theory.md §9.3b, "Plies that are not
+    neighbours"). With ``lower_rule`` (a key of
     ``RULES``), each contact is followed by its mirrored pass (``points="lower"``) with the
     lower ply's points at that rule."""
     if pairs not in PAIRS:
@@ -474,11 +511,16 @@ def join_plies(
     if pairs == "all":
         ordered += [(k, j) for k in range(3, count + 1) for j in range(k - 2, 0, -1)]
     for k, j in ordered:
+        # a pair that is not neighbours acts only where its points face none of the plies
+        # between (elements/ply_between.py): a penalty's give closes its gap under pressure
+        between = tuple(f"ply_{i}" for i in range(j + 1, k))
         model.interact(
-            PlyContact(f"ply_{k}", f"ply_{j}", half_thickness, half_thickness, **options)
+            PlyContact(
+                f"ply_{k}", f"ply_{j}", half_thickness, half_thickness, between=between, **options
+            )
         )
         if lower_rule is not None:  # the mirrored pass (module docstring, "Both ways")
-            mirrored = dict(options, rule=lower_rule, points="lower")
+            mirrored = dict(options, rule=lower_rule, points="lower", between=between)
             model.interact(
                 PlyContact(f"ply_{k}", f"ply_{j}", half_thickness, half_thickness, **mirrored)
             )
