@@ -58,6 +58,7 @@ th { background: #f2f2f2; }
 td.num { text-align: right; font-variant-numeric: tabular-nums; overflow-wrap: normal;
          white-space: nowrap; }
 .pass { color: #1a7f37; font-weight: 600; } .fail { color: #c62828; font-weight: 600; }
+.warned { color: #9a5b00; font-weight: 600; }
 table.summary { width: 100%; }
 table.summary td.what { min-width: 12em; }
 table.summary td.key { font-size: 0.9em; }
@@ -135,9 +136,27 @@ def _word(case: dict) -> str:
 
 def _verdict(case: dict) -> str:
     """The verdict and the checks passed: "pass 12/12", "FAIL 3/4", "ERROR 0/0" (the
-    reported values, which have no verdict, left out)."""
+    reported values, which have no verdict, left out), and how many warnings its runs raised
+    where they raised any ("pass 5/5, 1 warning")."""
     checks = _counted(case["checks"])
-    return f"{_word(case)} {sum(c['passed'] for c in checks)}/{len(checks)}"
+    count = len(case.get("warnings", []))
+    warned = (
+        f", <span class='warned'>{count} warning{'s' if count > 1 else ''}</span>" if count else ""
+    )
+    return f"{_word(case)} {sum(c['passed'] for c in checks)}/{len(checks)}{warned}"
+
+
+def _warnings(case: dict) -> str:
+    """The warnings the case's runs raised (results.json's "warnings"), each in full, or
+    nothing where they raised none: a run that warned is doubtful though its checks pass."""
+    warned = case.get("warnings", [])
+    if not warned:
+        return ""
+    items = "".join(f"<li>{html.escape(text)}</li>" for text in warned)
+    return (
+        f"<div class='warned'><p>The case's runs warned ({len(warned)}; the checks do not "
+        f"judge what a warning says):</p><ul>{items}</ul></div>"
+    )
 
 
 def _margin(check: dict) -> float:
@@ -417,7 +436,7 @@ def _section(number: int, name: str, case: dict, first_figure: int) -> str:
     )
     return (
         f"<section id='{html.escape(name)}'><h2>{number}. {html.escape(name)}: "
-        f"{html.escape(case['title'])}</h2>{error}{verdict}{figures}{discussion}"
+        f"{html.escape(case['title'])}</h2>{error}{verdict}{_warnings(case)}{figures}{discussion}"
         f"{_runs_table(case)}{_orders_table(case)}{statement}{files}{_checks_table(case)}"
         "</section>"
     )
