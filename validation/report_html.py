@@ -171,14 +171,29 @@ def _margin(check: dict) -> float:
     return abs(error) / tolerance
 
 
+def _largest(numbers: dict, kinematics: str, name: str) -> float | None:
+    """The largest ``name`` of ``kinematics`` over a paper case's sides (``key_numbers``:
+    "fibrous side_1", "fibrous side_2", ...), or None where it has none."""
+    values = [v[name] for k, v in numbers.items() if k.split(" ")[0] == kinematics]
+    return max(values) if values else None
+
+
+def _self_check(check: dict) -> bool:
+    """Whether a check verifies a reference's own numbers (its name ends "(self-check)": a
+    series summed to the printed digits), not the code: never a case's key number."""
+    return check["name"].rstrip().endswith("(self-check)")
+
+
 def _key_number(case: dict) -> str:
     """The number a reader of the summary looks at, as short text (HTML escaped).
 
     A case that raised: the start of its error. A case with a failed check: the first one,
     as value and reference. A paper case: how far the default fibrous directors leave the
     nodal normal (in three dimensions, away from the clamped node: ``SideSummary``) and how
-    thick the stack grows along them on side 1 (the paper's point), beside the Mindlin tilt.
-    Another case: the check that uses most of its tolerance.
+    thick the stack grows along them, the largest over its sides (the paper's point), beside
+    the Mindlin tilt. Another case: the check that uses most of its tolerance, a reference's
+    self-check left out (``_self_check``); a check whose name states its window ("within [a,
+    b]") with its value alone, not the window's midpoint as a reference.
     """
     if "error" in case:
         error = case["error"]
@@ -186,17 +201,19 @@ def _key_number(case: dict) -> str:
     checks = _counted(case["checks"])
     failed = [c for c in checks if not c["passed"]]
     numbers = case.get("key_numbers") or {}
-    fibrous, mindlin = numbers.get("fibrous side_1"), numbers.get("mindlin side_1")
-    if fibrous and mindlin and not failed:
+    tilt = _largest(numbers, "fibrous", "normal_tilt_max_deg")
+    thickness = _largest(numbers, "fibrous", "thickness_max_over_h")
+    tilt_mindlin = _largest(numbers, "mindlin", "normal_tilt_max_deg")
+    if tilt is not None and thickness is not None and tilt_mindlin is not None and not failed:
         return (
-            f"fibrous directors up to {fibrous['normal_tilt_max_deg']:.0f} deg from the "
-            f"normal (Mindlin {mindlin['normal_tilt_max_deg']:.0f}), thickness up to "
-            f"{fibrous['thickness_max_over_h']:.2f} h"
+            f"fibrous directors up to {tilt:.0f} deg from the normal (Mindlin "
+            f"{tilt_mindlin:.0f}), thickness up to {thickness:.2f} h"
         )
     if not checks:
         return "no checks"
-    check = failed[0] if failed else max(checks, key=_margin)
-    if check["reference"] is None or check["tolerance"] is None:
+    of_the_code = [c for c in checks if not _self_check(c)] or checks
+    check = failed[0] if failed else max(of_the_code, key=_margin)
+    if check["reference"] is None or check["tolerance"] is None or " within [" in check["name"]:
         return f"{html.escape(check['name'])}: {_short(check['value'])}"
     return (
         f"{html.escape(check['name'])}: {_short(check['value'])} "
