@@ -21,6 +21,15 @@ if TYPE_CHECKING:
 __all__ = ["render"]
 
 
+# The two blanks differ in material as well as kinematics: what every figure says of them.
+MATERIAL_DIFFERS = (
+    "The Mindlin blank is not the fabric: it is a linear elastic section at the fabric's "
+    "initial shear slope (ElasticShell.equivalent), 1.9, 2.9 and 4.0 x softer in in-plane "
+    "shear than the fabric at 30, 36 and 40.5 deg, so that the two blanks differ in material "
+    "as well as in kinematics."
+)
+
+
 def render(data: HemisphereData, out_dir: Path) -> list[Figure]:
     """The shear angle fields (fibrous, Mindlin, the net) over the blank, the deformed
     fibres seen from above (the draw-in), and the punch force against its travel."""
@@ -66,7 +75,8 @@ def render(data: HemisphereData, out_dir: Path) -> list[Figure]:
             "The shear angle over the flat blank after forming into the hemisphere: the "
             "fibrous shell, the Mindlin shell and the pin-jointed net draped on the same "
             "sphere (Mack and Taylor), on one colour scale. Inside the die the shells should "
-            "show the net's pattern, largest along the diagonals, and its magnitudes.",
+            "show the net's pattern, largest along the diagonals, and its magnitudes."
+            f" {MATERIAL_DIFFERS}",
         )
     )
 
@@ -97,7 +107,8 @@ def render(data: HemisphereData, out_dir: Path) -> list[Figure]:
             "The formed blank seen from above: warp (blue) and weft (red) fibres of the "
             "fibrous (left) and the Mindlin (right) shell, the blank's outline (dotted) and "
             "the die's edge (dashed). Look at the draw-in of the edges and the wrinkles on "
-            "the flange.",
+            "the flange."
+            f" {MATERIAL_DIFFERS}",
         )
     )
 
@@ -112,7 +123,7 @@ def render(data: HemisphereData, out_dir: Path) -> list[Figure]:
             f"{NAME}-force.png",
             "The punch force against its travel for the fibrous and the Mindlin shell. Both "
             "rise as the blank is drawn into the die; compare their levels and where they "
-            f"start to climb. {quasi_static_words(data.runs)}",
+            f"start to climb. {MATERIAL_DIFFERS} {quasi_static_words(data.runs)}",
         )
     )
     for kinematics, result in data.runs.items():
