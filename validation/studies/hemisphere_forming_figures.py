@@ -38,7 +38,14 @@ def render(data: HemisphereData, out_dir: Path) -> list[Figure]:
 
     # the case's geometry, named where the case states it (imported here: the case module
     # imports this one)
-    from validation.cases.hemisphere_forming import DIE, DURATION, HALF, NAME, TRAVEL
+    from validation.cases.hemisphere_forming import (
+        DIE,
+        DURATION,
+        HALF,
+        NAME,
+        TRAVEL,
+        flange_start,
+    )
 
     mesh = data.mesh
     figures = []
@@ -94,7 +101,10 @@ def render(data: HemisphereData, out_dir: Path) -> list[Figure]:
             [-HALF, HALF, HALF, -HALF, -HALF], [-HALF, -HALF, HALF, HALF, -HALF], ":", color="0.5"
         )
         circle = np.linspace(0, 2 * np.pi, 200)
-        ax.plot(DIE * np.cos(circle), DIE * np.sin(circle), "--", color="0.3", lw=0.8)
+        # the bowl's edge, and where the entry round meets the flat flange (the holder's bore)
+        ax.plot(DIE * np.cos(circle), DIE * np.sin(circle), ":", color="0.3", lw=0.8)
+        flange = flange_start()
+        ax.plot(flange * np.cos(circle), flange * np.sin(circle), "--", color="0.3", lw=0.8)
         ax.set_title(f"{kinematics}: warp (blue) and weft (red) from above", fontsize=10)
         ax.set_aspect("equal")
         ax.set_xlabel("x (mm)")
@@ -105,9 +115,10 @@ def render(data: HemisphereData, out_dir: Path) -> list[Figure]:
         Figure(
             f"{NAME}-fibres.png",
             "The formed blank seen from above: warp (blue) and weft (red) fibres of the "
-            "fibrous (left) and the Mindlin (right) shell, the blank's outline (dotted) and "
-            "the die's edge (dashed). Look at the draw-in of the edges and the wrinkles on "
-            "the flange."
+            "fibrous (left) and the Mindlin (right) shell, the blank's outline (dotted "
+            f"square), the bowl's edge (dotted circle, radius {DIE:.1f} mm) and the start of "
+            f"the die's flat flange past its entry round (dashed, {flange_start():.1f} mm). "
+            "Look at the draw-in of the edges and the wrinkles on the flange."
             f" {MATERIAL_DIFFERS}",
         )
     )
