@@ -32,7 +32,14 @@ from fibreshell.case import Case
 from fibreshell.confidence import below_zero, interval_text
 from fibreshell.folder_lock import folder_lock
 from fibreshell.outputs import IDENTIFY_FILES, MATERIAL_LINES, remove_run_folder
-from fibreshell.run import Run, profile, run_case, section_thickness, strict_json
+from fibreshell.run import (
+    Run,
+    case_held_directors,
+    profile,
+    run_case,
+    section_thickness,
+    strict_json,
+)
 
 __all__ = [
     "COLOURS", "DEFAULT_KINEMATICS", "KINEMATICS", "calibration_lines", "compare_case",
@@ -391,9 +398,12 @@ def _path_record(case: Case, run: Run, name: str, h: float) -> dict[str, Any]:
     record = {k: v for k, v in line.items() if k not in ("directors", "director_horizontal")}
     nodes = case.paths[name]
     try:
-        tilt = run.result.field("director_tilt_deg")[nodes]
+        tilt = np.array(run.result.field("director_tilt_deg")[nodes], dtype=float)
     except (KeyError, ValueError):
         tilt = np.full(len(nodes), np.nan)
+    # a clamped node's director is imposed: its tilt is the clamp's one-sided facets' (a
+    # Mindlin strip's 27.7 deg at the clamp of bai-5.1), left out as the summary leaves it
+    tilt[np.isin(nodes, case_held_directors(case))] = np.nan
     record["director_tilt_deg"] = tilt
     return record
 
@@ -567,7 +577,7 @@ def path_figure(case: Case, runs: dict[str, Run], name: str, out: Path, label: s
     titles = (
         f"(a) side elevation of path '{name}', true scale",
         "(b) director angle to the horizontal",
-        "(c) director tilt from the surface normal",
+        "(c) director tilt from the surface normal (clamped nodes left out)",
         "(d) thickness along the director",
     )
     labels = (

@@ -23,7 +23,7 @@ from elements.plies import PlyStack
 from femcore.results import write_vtu
 from fibreshell.case import SOLVERS, Case
 from fibreshell.outputs import MATERIAL_LINES, clean_run, run_folder_lock
-from fibreshell.run import Run, path_axis, solve_keeping, strict_json
+from fibreshell.run import Run, case_held_directors, path_axis, solve_keeping, strict_json
 
 __all__ = [
     "plies_profiles", "plies_solver", "ply_stack", "run_plies", "stack_model",
@@ -119,13 +119,18 @@ def plies_profiles(case: Case, stack: PlyStack, positions, directors) -> dict[st
     ``fibreshell.compare.kinematics_record``: s (reference arc length, mm), the stack's
     mid-surface x, y, z and horizontal coordinate, the director angle to the horizontal in
     the path's vertical plane (deg), its tilt from the stack's normal (deg), the thickness
-    along it (mm), and the largest ply-to-ply gap (mm)."""
+    along it (mm; NaN at a node whose directors the case's fixes hold: ``case_held_directors``,
+    a clamp, where every ply's director is imposed and the nodal normal's one-sided facets
+    made the tilt read 26-28 deg), and the largest ply-to-ply gap (mm)."""
     lines = stack.material_lines(positions, directors)
+    held = case_held_directors(case)
     out = {}
     for name in case.paths:
         nodes, s, along = path_axis(case, name)
         mid = lines.midpoint[nodes]
         d = lines.direction[nodes]
+        tilt = np.degrees(lines.angle[nodes])
+        tilt[np.isin(nodes, held)] = np.nan
         out[name] = {
             "s": s,
             "x": mid[:, 0],
@@ -133,7 +138,7 @@ def plies_profiles(case: Case, stack: PlyStack, positions, directors) -> dict[st
             "z": mid[:, 2],
             "horizontal": mid @ along,
             "director_angle_deg": np.degrees(np.arctan2(d[:, 2], d @ along)),
-            "director_tilt_deg": np.degrees(lines.angle[nodes]),
+            "director_tilt_deg": tilt,
             "thickness": lines.thickness[nodes],
             "gap_max_mm": lines.gap[nodes],
         }

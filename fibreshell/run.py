@@ -35,9 +35,9 @@ from solvers.output import ENERGY_KEYS, CheckpointMismatch
 HISTORY_SETTINGS = frozenset({"history_nodes", "frame_summary"})
 
 __all__ = [
-    "FrameRows", "Run", "check_kinematics", "check_run_options", "frame_row", "frames_written",
-    "history_rows", "kept", "path_axis", "profile", "run_case", "run_kinematics",
-    "section_thickness", "solve_keeping", "strict_json", "summarise",
+    "FrameRows", "Run", "case_held_directors", "check_kinematics", "check_run_options",
+    "frame_row", "frames_written", "history_rows", "kept", "path_axis", "profile", "run_case",
+    "run_kinematics", "section_thickness", "solve_keeping", "strict_json", "summarise",
 ]  # fmt: skip
 
 
@@ -594,6 +594,19 @@ def held_directors(model: Any) -> np.ndarray:
         columns = fix.columns
         if columns is None or (alpha in columns and beta in columns):
             held.append(np.asarray(fix.nodes, dtype=np.int64))
+    return np.unique(np.concatenate(held)) if held else np.zeros(0, dtype=np.int64)
+
+
+def case_held_directors(case: Case) -> np.ndarray:
+    """(k,) int: the case mesh's nodes whose directors its ``[[fix]]`` tables hold (every DOF,
+    or alpha and beta among ``dofs``): a clamp, where the director is imposed. Their tilt from
+    the nodal normal is measured against the clamp's one-sided facets, the discretisation's,
+    not the run's: the profiles leave it out (NaN), as ``summarise`` does."""
+    held = [
+        np.asarray(fix["nodes"], dtype=np.int64)
+        for fix in case.fixes
+        if fix["dofs"] is None or {"alpha", "beta"} <= set(fix["dofs"])
+    ]
     return np.unique(np.concatenate(held)) if held else np.zeros(0, dtype=np.int64)
 
 

@@ -3,13 +3,15 @@ three independent parts, each a dense linear solve seeded by its key, combined i
 outcome whose numbers depend on every bit of every part's data and on the parts' order; and
 the same case with a fourth part that raises (``BROKEN``); one whose second part kills its own
 worker process a second into it (``KILLING``, a worker killed by the kernel); one of six parts
-that sleep (``SLEEPING``, a report to interrupt). Importable by the report's spawned
+that sleep (``SLEEPING``, a report to interrupt); one whose fourth part warns (``WARNING``)
+and a case in one task that warns (``WARNING_WHOLE``). Importable by the report's spawned
 workers (pytest puts tests/ on sys.path, which a spawned process inherits), which unpickle
 its functions."""
 
 import os
 import signal
 import time
+import warnings
 from dataclasses import replace
 from functools import partial
 from pathlib import Path
@@ -20,9 +22,10 @@ import numpy as np
 from validation.checks import check
 from validation.records import Case, Outcome, compute_parts
 
-__all__ = ["BROKEN", "CASE", "KILLING", "SIZE", "SLEEPING"]
+__all__ = ["BROKEN", "CASE", "KILLING", "SIZE", "SLEEPING", "WARNED", "WARNING", "WARNING_WHOLE"]
 
 SIZE = 60  # unknowns of each part's system
+WARNED = "a part that warns, on purpose"  # what ``WARNING``'s part and ``WARNING_WHOLE`` say
 
 
 def _part(seed: int) -> dict[str, Any]:
@@ -36,6 +39,11 @@ def _part(seed: int) -> dict[str, Any]:
 
 def _broken() -> None:
     raise ValueError("a part that fails, on purpose")
+
+
+def _warns() -> dict[str, Any]:
+    warnings.warn(WARNED, stacklevel=1)
+    return _part(5)
 
 
 def _killed() -> None:
@@ -54,6 +62,14 @@ def parts(resolution: str) -> dict[str, Any]:
 
 def broken_parts(resolution: str) -> dict[str, Any]:
     return {**parts(resolution), "broken": _broken}
+
+
+def warning_parts(resolution: str) -> dict[str, Any]:
+    return {**parts(resolution), "warns": _warns}
+
+
+def warning_compute(resolution: str) -> Outcome:
+    return compute_parts(warning_parts, combine, resolution)
 
 
 def killing_parts(resolution: str) -> dict[str, Any]:
@@ -118,3 +134,7 @@ CASE = Case(
 BROKEN = replace(CASE, name="cheap-parts-broken", parts=broken_parts)
 KILLING = replace(CASE, name="cheap-parts-killing", parts=killing_parts)
 SLEEPING = replace(CASE, name="cheap-parts-sleeping", parts=sleeping_parts)
+WARNING = replace(CASE, name="cheap-parts-warning", parts=warning_parts)
+WARNING_WHOLE = replace(
+    CASE, name="cheap-warning", compute=warning_compute, parts=None, combine=None
+)

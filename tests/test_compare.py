@@ -378,3 +378,19 @@ def test_a_fit_stopped_at_its_evaluation_cap_says_so_and_an_interval_through_zer
     assert "it reaches zero: the data do not determine this value" in shear
     bending = next(line for line in lines if "bending_scale" in line)
     assert "reaches zero" not in bending
+
+
+def test_the_tilt_from_the_normal_is_left_out_at_the_clamped_node(small_comparison, tmp_path):
+    # A clamped node's director is imposed (every ply's, in the stack): its tilt from the
+    # nodal normal, taken over the clamp's one-sided facets, is the mesh's, not the run's
+    # (plies-bai-5.1's panel (c) read 26.4 deg for the plies and 27.7 for Mindlin at s = 0).
+    # The profiles leave it out (null), as summary.json's tilt and the paper cases do.
+    out, _ = small_comparison
+    for name in ("fibrous", "mindlin"):
+        tilt = _read(out)["kinematics"][name]["paths"]["edge"]["director_tilt_deg"]
+        assert tilt[0] is None and all(t is not None for t in tilt[1:]), name
+    text = PLY_STRIP.replace("nx = 10", "nx = 4").replace("lx = 200.0", "lx = 40.0")
+    case = _case(tmp_path, text.replace("x_min = 200.0", "x_min = 40.0"))
+    runs = compare_case(case, tmp_path / "plies", progress=False, kinematics=["plies"], plies=2)
+    tilt = np.asarray(runs["plies"].profiles["edge"]["director_tilt_deg"])
+    assert np.isnan(tilt[0]) and np.isfinite(tilt[1:]).all()

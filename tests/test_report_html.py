@@ -333,3 +333,35 @@ def test_a_bound_fails_on_the_wrong_side_and_says_by_how_much():
     assert not below.passed and abs(below.error - 0.03) < 1e-12
     assert above.passed and above.error == 0.0
     assert not bound("x", 1.0, float("nan"), at_least=True).passed
+
+
+@pytest.mark.slow
+def test_the_summary_s_key_numbers_are_the_case_s_own_on_the_coarse_report(coarse_report):
+    """The coarse report's summary line per case: a paper case's fibrous tilt and thickness
+    are the largest over its sides (bai-6.1.1 read 31 deg / 1.17 h from side 1 where its text
+    and table gave side 2's 32 deg / 1.176 h); a reference's own self-check is never the key
+    number (mindlin-elastica showed Bisshopp & Drucker's digits checked against themselves);
+    a check on a window shows the window, not its midpoint as a "reference"
+    (hemisphere-forming's draw-in read "22.65 (reference 25.78)")."""
+    from validation.report_html import _key_number
+
+    _, report = coarse_report
+    cases = report["cases"]
+    for name, case in cases.items():
+        numbers = case.get("key_numbers")
+        if not numbers or not all(c["passed"] for c in case["checks"]):
+            continue
+        tilt = max(
+            v["normal_tilt_max_deg"] for k, v in numbers.items() if k.split(" ")[0] == "fibrous"
+        )
+        thickness = max(
+            v["thickness_max_over_h"] for k, v in numbers.items() if k.split(" ")[0] == "fibrous"
+        )
+        said = _key_number(case)
+        assert f"up to {tilt:.0f} deg" in said and f"up to {thickness:.2f} h" in said, name
+    assert "self-check" not in _key_number(cases["mindlin-elastica"])
+    forming = _key_number(cases["hemisphere-forming"])
+    if "within [" in forming:  # the check nearest its bound is the window's
+        assert "reference" not in forming
+    for name, case in cases.items():
+        assert "self-check" not in _key_number(case), name

@@ -254,7 +254,7 @@ def discussion(records, differences, h: float, plies: int, summary: dict) -> str
     thick = np.asarray(p["thickness"])
     first = (
         f"The {plies} plies slide on each other: their material lines tilt from the stack's "
-        f"normal by up to {tilt.max():.1f} deg and the stack measured along them reaches "
+        f"normal by up to {np.nanmax(tilt):.1f} deg and the stack measured along them reaches "
         f"{thick.max():.2f} mm ({thick.max() / h:.2f} h), the thickness along the normal "
         f"staying h (largest gap between plies {summary['largest_gap_mm']:.2g} mm, overlap "
         f"{summary['largest_overlap_mm']:.2g} mm)."
@@ -311,7 +311,8 @@ def render(data: GroundTruth, out_dir: Path, name: str) -> list[Figure]:
         Figure(
             target.name,
             f"Along the path '{data.path}': the side elevation with the through-thickness "
-            "lines, the director angle, its tilt from the normal and the thickness along it, "
+            "lines, the director angle, its tilt from the normal (not drawn at the clamped "
+            "node, where the director is imposed) and the thickness along it, "
             f"for the fibrous shell, the Mindlin shell and the stack as {data.plies} "
             "frictionless plies (their material lines, the reference). The fibrous curves "
             "should follow the plies; the Mindlin directors stay on the normal.",

@@ -351,6 +351,9 @@ class Outcome:
         Paper cases: the observed orders of the quantities they report, on three meshes.
     error : str or None
         Set by the report runner when the case raised.
+    warnings : tuple of str
+        Set by the report runner: the Python warnings raised while the case ran, its parts
+        and its figures included ("Category: message", each once; validation/case_warnings.py).
     data : object
         What the case's ``render`` draws and writes (arrays, solver results); not in
         results.json.
@@ -368,6 +371,7 @@ class Outcome:
     discussion: str | None = None
     orders: list[ObservedOrder] | None = None
     error: str | None = None
+    warnings: tuple[str, ...] = ()
     data: Any = field(default=None, repr=False, compare=False)
 
     @classmethod
@@ -524,6 +528,7 @@ class CaseResult:
             )
             if self.case_cpu_s is not None:
                 record["case_cpu_s"] = self.case_cpu_s
+        record["warnings"] = list(o.warnings)
         if self.parts is not None:
             record["parts"] = {
                 key: {"time_s": wall, "cpu_s": cpu} for key, (wall, cpu) in self.parts.items()

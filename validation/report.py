@@ -41,6 +41,7 @@ import numpy as np
 
 from femcore.jit import free_cores
 from fibreshell.folder_lock import folder_lock
+from validation.case_warnings import kept_warnings
 from validation.cases import CASES
 from validation.records import Case, CaseResult, Figure, Outcome, Report
 from validation.report_html import INTRODUCTION, STYLE, render_html
@@ -359,23 +360,27 @@ def run_case(name: str, resolution: str, out_dir: Path) -> CaseResult:
     case = CASES[name]
     started, cpu = time.perf_counter(), time.process_time()
     times: dict[str, tuple[float, float]] = {}
-    try:
-        if case.parts is None:
-            outcome = case.compute(resolution)
-        else:
-            data = {}
-            for key, part in case.parts(resolution).items():
-                part_started, part_cpu = time.perf_counter(), time.process_time()
-                data[key] = part()
-                times[key] = (time.perf_counter() - part_started, time.process_time() - part_cpu)
-            assert case.combine is not None  # Case requires both
-            outcome = case.combine(resolution, data)
-        outcome = _drawn(case, outcome, out_dir)
-    except Exception as error:  # a broken case is reported, never hidden
-        outcome = Outcome.failed(error)
+    with kept_warnings() as warned:
+        try:
+            if case.parts is None:
+                outcome = case.compute(resolution)
+            else:
+                data = {}
+                for key, part in case.parts(resolution).items():
+                    part_started, part_cpu = time.perf_counter(), time.process_time()
+                    data[key] = part()
+                    times[key] = (
+                        time.perf_counter() - part_started,
+                        time.process_time() - part_cpu,
+                    )
+                assert case.combine is not None  # Case requires both
+                outcome = case.combine(resolution, data)
+            outcome = _drawn(case, outcome, out_dir)
+        except Exception as error:  # a broken case is reported, never hidden
+            outcome = Outcome.failed(error)
     return CaseResult(
         case=case,
-        outcome=outcome,
+        outcome=replace(outcome, warnings=tuple(warned)),
         case_time_s=time.perf_counter() - started,
         case_cpu_s=time.process_time() - cpu,
         parts=None if case.parts is None else times,
@@ -403,26 +408,30 @@ def _combined(
     times: dict[str, tuple[float, float]],
     error: str | None,
     out_dir: Path,
+    warned: list[str] | None = None,
 ) -> CaseResult:
     """The result of a case whose parts ran in the workers: their ``data`` (pickled) by key,
     in the parts' order, combined and drawn here; or, when a part raised, the ``error`` (its
     text) of the first such part in their order. The case's wall and CPU times are the sums
     of the parts' ``times`` (wall, CPU; s) and this step's: what the case costs, as in one
     process (``CaseResult``), not the span from its first part's start to its end, which the
-    other tasks beside it stretch."""
+    other tasks beside it stretch. ``warned``: the warnings the parts raised, in their
+    order, to which those of this step are added."""
     started, cpu = time.perf_counter(), time.process_time()
-    if error is not None:
-        outcome = Outcome.failed(error)
-    else:
-        try:
-            assert case.combine is not None  # Case requires both
-            made = {key: pickle.loads(payload) for key, payload in data.items()}
-            outcome = _drawn(case, case.combine(resolution, made), out_dir)
-        except Exception as failure:  # a broken case is reported, never hidden
-            outcome = Outcome.failed(failure)
+    with kept_warnings() as here:
+        if error is not None:
+            outcome = Outcome.failed(error)
+        else:
+            try:
+                assert case.combine is not None  # Case requires both
+                made = {key: pickle.loads(payload) for key, payload in data.items()}
+                outcome = _drawn(case, case.combine(resolution, made), out_dir)
+            except Exception as failure:  # a broken case is reported, never hidden
+                outcome = Outcome.failed(failure)
+    every = list(dict.fromkeys([*(warned or []), *here]))  # each once, in order
     return CaseResult(
         case=case,
-        outcome=outcome,
+        outcome=replace(outcome, warnings=tuple(every)),
         case_time_s=time.perf_counter() - started + sum(wall for wall, _ in times.values()),
         case_cpu_s=time.process_time() - cpu + sum(used for _, used in times.values()),
         parts=times,
@@ -496,21 +505,22 @@ def _run_in_worker(name: str, resolution: str, out_dir: Path, threads: int):
 
 
 def _run_part_in_worker(case: Case, resolution: str, key: str, threads: int):
-    """One part of ``case`` (``Case.parts``) in a worker process: (its data pickled, None, its
-    wall time, its CPU time, the pickling's included), or (None, the error's text, ...) when
-    it raised. Pickled here, so that the part's time holds what sending its data costs (the
-    parent's unpickling is in the combining step's)."""
+    """One part of ``case`` (``Case.parts``) in a worker process: (its data pickled, None, the
+    warnings it raised, its wall time, its CPU time, the pickling's included), or (None, the
+    error's text, ...) when it raised. Pickled here, so that the part's time holds what
+    sending its data costs (the parent's unpickling is in the combining step's)."""
     import numba
 
     numba.set_num_threads(threads)  # the cores are shared between the workers
     started, cpu = time.perf_counter(), time.process_time()
-    try:
-        assert case.parts is not None
-        data = case.parts(resolution)[key]()
-        payload, error = pickle.dumps(data, protocol=pickle.HIGHEST_PROTOCOL), None
-    except Exception as failure:  # the case is reported failed, never hidden
-        payload, error = None, Outcome.failed(failure).error
-    return payload, error, time.perf_counter() - started, time.process_time() - cpu
+    with kept_warnings() as warned:
+        try:
+            assert case.parts is not None
+            data = case.parts(resolution)[key]()
+            payload, error = pickle.dumps(data, protocol=pickle.HIGHEST_PROTOCOL), None
+        except Exception as failure:  # the case is reported failed, never hidden
+            payload, error = None, Outcome.failed(failure).error
+    return payload, error, warned, time.perf_counter() - started, time.process_time() - cpu
 
 
 def run_cases(
@@ -677,6 +687,7 @@ def _run_all(
     gathered: dict[str, dict[str, Any]] = {name: {} for name in names}
     timed: dict[str, dict[str, tuple[float, float]]] = {name: {} for name in names}
     failed: dict[str, dict[str, str]] = {name: {} for name in names}
+    raised: dict[str, dict[str, list[str]]] = {name: {} for name in names}  # warnings
     before = set(multiprocessing.active_children())
     pool = ProcessPoolExecutor(
         jobs, mp_context=context, initializer=_start_worker, initargs=(os.getpid(),)
@@ -702,9 +713,10 @@ def _run_all(
                     results[name] = CaseResult(CASES[name], outcome, seconds, cpu)
             else:
                 if died is not None:
-                    data, error, seconds, cpu = None, _died(died), 0.0, 0.0
+                    data, error, warned, seconds, cpu = None, _died(died), [], 0.0, 0.0
                 else:
-                    data, error, seconds, cpu = future.result()
+                    data, error, warned, seconds, cpu = future.result()
+                raised[name][key] = warned
                 size = f", {len(data) / 1e6:.1f} MB of data" if data is not None else ""
                 echo(f"  {name}, part {key}: {seconds:.1f} s ({cpu:.1f} s CPU){size}")
                 timed[name][key] = (seconds, cpu)
@@ -721,6 +733,7 @@ def _run_all(
                     {k: timed[name][k] for k in order},
                     next((failed[name][k] for k in order if k in failed[name]), None),
                     out_dir,
+                    [text for k in order for text in raised[name][k]],
                 )
             done(results[name], f"[{len(results)}/{len(names)}] {name}: {CASES[name].title}: ")
     except BaseException:

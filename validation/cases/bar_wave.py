@@ -118,8 +118,9 @@ def render(data: WaveData, out_dir: Path) -> list[Figure]:
             "bar-wave.png",
             "The force at the fixed end of a bar of cables struck by a step force at its free "
             "end, explicit central difference against the 1-D wave equation (dashed): the "
-            "front arrives at t = L/c and its reflection doubles the force until 3 L/c. Look "
-            "at the jump times and the plateau at 2 F; the ringing is the discrete front.",
+            "front arrives at t = L/c and its reflection doubles the force, which holds until "
+            "the reflection's return at 3 L/c; the run stops at 2.8 L/c, before it. Look at "
+            "the jump time and the plateau at 2 F; the ringing is the discrete front.",
         ),
         Figure(
             "bar-wave-energy.png",

@@ -21,6 +21,15 @@ if TYPE_CHECKING:
 __all__ = ["render"]
 
 
+# The two blanks differ in material as well as kinematics: what every figure says of them.
+MATERIAL_DIFFERS = (
+    "The Mindlin blank is not the fabric: it is a linear elastic section at the fabric's "
+    "initial shear slope (ElasticShell.equivalent), 1.9, 2.9 and 4.0 x softer in in-plane "
+    "shear than the fabric at 30, 36 and 40.5 deg, so that the two blanks differ in material "
+    "as well as in kinematics."
+)
+
+
 def render(data: HemisphereData, out_dir: Path) -> list[Figure]:
     """The shear angle fields (fibrous, Mindlin, the net) over the blank, the deformed
     fibres seen from above (the draw-in), and the punch force against its travel."""
@@ -29,7 +38,14 @@ def render(data: HemisphereData, out_dir: Path) -> list[Figure]:
 
     # the case's geometry, named where the case states it (imported here: the case module
     # imports this one)
-    from validation.cases.hemisphere_forming import DIE, DURATION, HALF, NAME, TRAVEL
+    from validation.cases.hemisphere_forming import (
+        DIE,
+        DURATION,
+        HALF,
+        NAME,
+        TRAVEL,
+        flange_start,
+    )
 
     mesh = data.mesh
     figures = []
@@ -66,7 +82,8 @@ def render(data: HemisphereData, out_dir: Path) -> list[Figure]:
             "The shear angle over the flat blank after forming into the hemisphere: the "
             "fibrous shell, the Mindlin shell and the pin-jointed net draped on the same "
             "sphere (Mack and Taylor), on one colour scale. Inside the die the shells should "
-            "show the net's pattern, largest along the diagonals, and its magnitudes.",
+            "show the net's pattern, largest along the diagonals, and its magnitudes."
+            f" {MATERIAL_DIFFERS}",
         )
     )
 
@@ -84,7 +101,10 @@ def render(data: HemisphereData, out_dir: Path) -> list[Figure]:
             [-HALF, HALF, HALF, -HALF, -HALF], [-HALF, -HALF, HALF, HALF, -HALF], ":", color="0.5"
         )
         circle = np.linspace(0, 2 * np.pi, 200)
-        ax.plot(DIE * np.cos(circle), DIE * np.sin(circle), "--", color="0.3", lw=0.8)
+        # the bowl's edge, and where the entry round meets the flat flange (the holder's bore)
+        ax.plot(DIE * np.cos(circle), DIE * np.sin(circle), ":", color="0.3", lw=0.8)
+        flange = flange_start()
+        ax.plot(flange * np.cos(circle), flange * np.sin(circle), "--", color="0.3", lw=0.8)
         ax.set_title(f"{kinematics}: warp (blue) and weft (red) from above", fontsize=10)
         ax.set_aspect("equal")
         ax.set_xlabel("x (mm)")
@@ -95,9 +115,11 @@ def render(data: HemisphereData, out_dir: Path) -> list[Figure]:
         Figure(
             f"{NAME}-fibres.png",
             "The formed blank seen from above: warp (blue) and weft (red) fibres of the "
-            "fibrous (left) and the Mindlin (right) shell, the blank's outline (dotted) and "
-            "the die's edge (dashed). Look at the draw-in of the edges and the wrinkles on "
-            "the flange.",
+            "fibrous (left) and the Mindlin (right) shell, the blank's outline (dotted "
+            f"square), the bowl's edge (dotted circle, radius {DIE:.1f} mm) and the start of "
+            f"the die's flat flange past its entry round (dashed, {flange_start():.1f} mm). "
+            "Look at the draw-in of the edges and the wrinkles on the flange."
+            f" {MATERIAL_DIFFERS}",
         )
     )
 
@@ -112,7 +134,7 @@ def render(data: HemisphereData, out_dir: Path) -> list[Figure]:
             f"{NAME}-force.png",
             "The punch force against its travel for the fibrous and the Mindlin shell. Both "
             "rise as the blank is drawn into the die; compare their levels and where they "
-            f"start to climb. {quasi_static_words(data.runs)}",
+            f"start to climb. {MATERIAL_DIFFERS} {quasi_static_words(data.runs)}",
         )
     )
     for kinematics, result in data.runs.items():

@@ -83,11 +83,17 @@ NAME = "hemisphere-plies"
 TITLE = "Two-ply layups [0/90] and [0/45] formed on the hemisphere under a blank holder"
 SOURCE = "Mack and Taylor (1956) pin-jointed net on the sphere, per ply orientation"
 # rms of shear - net (deg) over a ply's cells in the die, by the cells across the blank: the
-# fibrous plies measured at most 4.1 deg at 8 cells and 4.2 deg at 10 (the study's
-# docstring); 12 cells (validation/studies/hemisphere_plies_order.py) to 32 (the finer runs of
-# validation/studies/hemisphere_plies_convergence.py) take the 10 cells' tolerance. The
-# Mindlin plies are reported, not checked (as in hemisphere-forming).
-RMS_TOLERANCE_DEG = {8: 8.8, 10: 5.1} | {cells: 5.1 for cells in range(12, 33, 2)}
+# largest the fibrous plies measure now times 1.35, the margin of the one-ply case
+# (validation/cases/hemisphere_forming.py). At 8 cells (the coarse and default resolutions,
+# whose fibrous runs are the same) 3.46 / 3.51 deg ([0/90]) and 2.30 / 4.64 deg ([0/45])
+# measured, 1.35 x 4.64 = 6.3; a ply that does not shear scores the rms of the net itself
+# over the same cells (``<ply>_rms_net_shear_deg``), 8.06 deg on [0/45]'s 0-deg ply (14 cells)
+# and 11.3-11.5 deg on the others, so the check fails it (the former 8.8 passed it). At 10
+# cells (the fine resolution) 3.17 / 3.19 and 3.57 / 4.38 deg measured (the case's
+# docstring), 1.35 x 4.38 = 5.9; 12 cells (validation/studies/hemisphere_plies_order.py) to
+# 32 (the finer runs of validation/studies/hemisphere_plies_convergence.py) take the 10
+# cells' tolerance. The Mindlin plies are reported, not checked (as in hemisphere-forming).
+RMS_TOLERANCE_DEG = {8: 6.3, 10: 5.9} | {cells: 5.9 for cells in range(12, 33, 2)}
 
 
 def _slowed_runs(plan) -> str:
@@ -400,6 +406,12 @@ def run(
         rms = float(np.sqrt(np.mean(error**2))) if compared.any() else math.inf
         parameters[f"{ply}_cells_in_die"] = int(compared.sum())
         parameters[f"{ply}_rms_shear_error_deg"] = rms
+        # what a ply that does not shear would score: the check must tell the two apart
+        parameters[f"{ply}_rms_net_shear_deg"] = (
+            float(np.sqrt(np.mean(np.degrees(net_shear[key][k][compared]) ** 2)))
+            if compared.any()
+            else math.inf
+        )
         parameters[f"{ply}_largest_shear_deg"] = float(
             np.degrees(np.abs(shear[key][k][compared]).max(initial=0.0))
         )
