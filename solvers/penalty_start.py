@@ -27,7 +27,7 @@ if TYPE_CHECKING:
     from femcore.state import State
     from solvers.static import StaticRun
 
-__all__ = ["newton_with_soft_start", "softened", "stability_unsought"]
+__all__ = ["newton_with_soft_start", "softened", "stability_unsought", "then_whole"]
 
 
 @contextmanager
@@ -74,6 +74,14 @@ def newton_with_soft_start(
         with stability_unsought(run):
             start, count, _, history = newton(run, state, load_factor, turn_limit=turn_limit)
     run.info["soft_start_iterations"] += count
+    return then_whole(run, start, load_factor, count, history)
+
+
+def then_whole(run: StaticRun, start: State, load_factor: float, count: int, history: list):
+    """Newton's second phase from ``start``, the first phase's converged state under a
+    changed law (the soft penalty here, stiff stick springs in solvers/stick_start.py), with
+    the model's own laws: the increment's (state, iterations, ratio, ratios), the first
+    phase's ``count`` iterations and ratios ``history`` counted in, also in a failure's."""
     try:
         converged, more, ratio, rest = newton(run, start, load_factor)
     except IncrementFailed as failure:

@@ -21,7 +21,7 @@ from typing import TYPE_CHECKING
 
 from solvers.common import IncrementFailed
 from solvers.newton import newton
-from solvers.penalty_start import stability_unsought
+from solvers.penalty_start import stability_unsought, then_whole
 
 if TYPE_CHECKING:
     from femcore.compiled import CompiledModel
@@ -53,9 +53,4 @@ def newton_with_stick_start(run: StaticRun, state: State, load_factor: float):
         with stability_unsought(run):
             start, count, _, history = newton(run, state, load_factor)
     run.info["stick_start_iterations"] = run.info.get("stick_start_iterations", 0) + count
-    try:
-        converged, more, ratio, rest = newton(run, start, load_factor)
-    except IncrementFailed as failure:
-        failure.iterations += count
-        raise
-    return converged, count + more, ratio, history + rest
+    return then_whole(run, start, load_factor, count, history)
