@@ -175,20 +175,16 @@ def test_the_compiled_hessians_raise_the_strains_to_the_same_floors(name):
     assert np.abs(free - expected).max() > 1e-6 * np.abs(expected).max()  # floors matter
 
 
-def test_a_fibrous_column_is_loaded_past_its_buckling_load_by_equal_load_steps():
-    # The imperfect fibrous strip of tests/test_arc_step.py (100 x 5 mm, clamped, a dead tip
-    # load of 1.5 P_cr along it) carries its load in compression: with the strains of the
-    # compression-free tangent raised to zero, Newton lost the compression's geometric
-    # softening and stopped at a load factor of 0.6625 (P_cr at 2/3) after 8 cuts. With
-    # the start's compression kept, 10 equal load steps reach the elastica of Timoshenko and
-    # Gere (Theory of Elastic Stability, 1961, §2.7) within the arc length's tolerance of
-    # that test (three times its 20-cell discretisation error).
+def _column_by_load_steps(**options):
+    """The imperfect fibrous strip of tests/test_arc_step.py (100 x 5 mm, clamped, a dead tip
+    load of 1.5 P_cr along it) by 10 equal load steps of Static(**options), its tip checked
+    against the elastica of Timoshenko and Gere (Theory of Elastic Stability, 1961, §2.7)
+    within the arc length's tolerance of that test (three times its 20-cell discretisation
+    error): the result."""
     from tests.test_arc_step import ALONG_TOLERANCE, LATERAL_TOLERANCE, LENGTH, imperfect_column
 
     model, tip, bending = imperfect_column("fibrous")
-    result = Static(increments=10, progress=False).solve(model)
-    assert result.info["compression_free"] == 1e-2  # the default for a fibrous model
-    assert result.info["compression_free_tangents"] > 0
+    result = Static(increments=10, progress=False, **options).solve(model)
     assert result.frames[-1].load_factor == 1.0
     expected = buckled_cantilever_column(
         LENGTH, 1.5 * math.pi**2 * bending / (4 * LENGTH**2), bending
@@ -196,24 +192,25 @@ def test_a_fibrous_column_is_loaded_past_its_buckling_load_by_equal_load_steps()
     x, _, z = result.positions[tip].mean(axis=0)
     assert z == pytest.approx(expected["lateral"], rel=LATERAL_TOLERANCE["fibrous"])
     assert x == pytest.approx(expected["tip_x"], abs=ALONG_TOLERANCE["fibrous"])
+    return result
+
+
+def test_a_fibrous_column_is_loaded_past_its_buckling_load_by_equal_load_steps():
+    # The column carries its load in compression: with the strains of the compression-free
+    # tangent raised to zero, Newton lost the compression's geometric softening and stopped
+    # at a load factor of 0.6625 (P_cr at 2/3) after 8 cuts. With the last converged state's
+    # compression kept, 10 equal load steps reach the elastica.
+    result = _column_by_load_steps()
+    assert result.info["compression_free"] == 1e-2  # the default for a fibrous model
+    assert result.info["compression_free_tangents"] > 0
 
 
 def test_the_kept_compression_is_the_last_converged_state_s_not_a_predictor_s():
     # The secant predictor extrapolates the increment's start: a straight update shortens the
     # fibres that turn, and with the floors taken there (as first written) the column of the
     # test above stopped at a load factor of 0.6656 with predictor=True. Taken from the last
-    # converged state the same 10 load steps reach the elastica (the tolerances above).
-    from tests.test_arc_step import ALONG_TOLERANCE, LATERAL_TOLERANCE, LENGTH, imperfect_column
-
-    model, tip, bending = imperfect_column("fibrous")
-    result = Static(increments=10, predictor=True, progress=False).solve(model)
-    assert result.frames[-1].load_factor == 1.0
-    expected = buckled_cantilever_column(
-        LENGTH, 1.5 * math.pi**2 * bending / (4 * LENGTH**2), bending
-    )
-    x, _, z = result.positions[tip].mean(axis=0)
-    assert z == pytest.approx(expected["lateral"], rel=LATERAL_TOLERANCE["fibrous"])
-    assert x == pytest.approx(expected["tip_x"], abs=ALONG_TOLERANCE["fibrous"])
+    # converged state the same 10 load steps reach the elastica.
+    _column_by_load_steps(predictor=True)
 
 
 def test_the_kept_compression_is_computed_again_for_a_state_changed_in_place():
