@@ -138,6 +138,19 @@ def _pressed_stack(kinematics, middle_held=("ux", "uy"), laid_into=1.0, **option
     return layup, model
 
 
+def _pairs_at_end(layup, model, result):
+    """The model's ply contacts (in join_plies' order) and the run's last state (positions,
+    directors, at rest) to ask their forces at."""
+    pairs = [b for b in model.compile().interactions if isinstance(b, PlyContactBlock)]
+    state = State(
+        result.positions,
+        np.nan_to_num(result.directors),
+        np.zeros((layup.mesh.n_nodes, 3)),
+        np.zeros((layup.mesh.n_nodes, 3)),
+    )
+    return pairs, state
+
+
 def _press(layup, model, amplitude):
     nodes, shares = _area_shares(layup, 3)
     for node, share in zip(nodes, shares):
@@ -161,15 +174,8 @@ def test_a_pressed_stack_carries_the_whole_load_through_the_middle_ply(kinematic
     layup, model = _pressed_stack(kinematics, penalty=penalty, faces=faces)
     _press(layup, model, "linear")
     result = Static(increments=2, progress=False, seek_stable=False).solve(model)
-    compiled = model.compile()
-    pairs = [b for b in compiled.interactions if isinstance(b, PlyContactBlock)]
+    pairs, state = _pairs_at_end(layup, model, result)
     assert len(pairs) == 3  # 2 on 1, 3 on 2, then 3 on 1 (join_plies' order)
-    state = State(
-        result.positions,
-        np.nan_to_num(result.directors),
-        np.zeros((layup.mesh.n_nodes, 3)),
-        np.zeros((layup.mesh.n_nodes, 3)),
-    )
     bottom, middle, top = layup.ply_nodes
     # each pair's F_int = dW/dx on ply 1's nodes: the force ply 1 pushes up with, the load
     # the pair carries down onto it (the Newton tolerance is far below the 1e-6 asked)
@@ -191,14 +197,8 @@ def test_the_mirrored_passes_of_a_pressed_stack_go_through_the_middle_ply_too():
     layup, model = _pressed_stack("fibrous", lower_rule="nodes", penalty=5.0)
     _press(layup, model, "linear")
     result = Static(increments=2, progress=False, seek_stable=False).solve(model)
-    pairs = [b for b in model.compile().interactions if isinstance(b, PlyContactBlock)]
+    pairs, state = _pairs_at_end(layup, model, result)
     assert len(pairs) == 6  # (2 on 1, 3 on 2, 3 on 1), each with its mirrored pass
-    state = State(
-        result.positions,
-        np.nan_to_num(result.directors),
-        np.zeros((layup.mesh.n_nodes, 3)),
-        np.zeros((layup.mesh.n_nodes, 3)),
-    )
     bottom, _, top = layup.ply_nodes
     assert np.mean(result.positions[top, 2] - result.positions[bottom, 2]) < PLY.thickness
     carried = sum(p.internal_force(state)[0][bottom, 2].sum() for p in pairs[:2])
@@ -216,13 +216,7 @@ def test_an_explicit_press_goes_through_the_middle_ply_alone():
     layup, model = _pressed_stack("fibrous", laid_into=0.0)
     _press(layup, model, "smooth")
     result = CentralDifference(duration=0.005, progress=False, kinetic_bound=None).solve(model)
-    pairs = [b for b in model.compile().interactions if isinstance(b, PlyContactBlock)]
-    state = State(
-        result.positions,
-        np.nan_to_num(result.directors),
-        np.zeros((layup.mesh.n_nodes, 3)),
-        np.zeros((layup.mesh.n_nodes, 3)),
-    )
+    pairs, state = _pairs_at_end(layup, model, result)
     bottom, _, top = layup.ply_nodes
     assert np.mean(result.positions[top, 2] - result.positions[bottom, 2]) < PLY.thickness
     assert pairs[0].internal_force(state)[0][bottom, 2].sum() == pytest.approx(PRESSED, rel=1e-3)
