@@ -51,6 +51,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # this tree's pack
 import numpy as np  # noqa: E402
 
 import solvers.arc_length as arc_length  # noqa: E402
+import solvers.round_off as round_off  # noqa: E402
 from solvers import ConvergenceError, Static  # noqa: E402
 from solvers.arc_step import ArcStep  # noqa: E402
 
@@ -79,7 +80,7 @@ def factorised(history, count, chord_steps, tol) -> int:
 
 
 RULES = (("first-step cap", FirstStepCap), ("arc_step", ArcStep))
-PROBE = arc_length.round_off_ratio
+PROBE = round_off.round_off_ratio
 SPENT = arc_length.iterations_spent
 
 
@@ -89,7 +90,7 @@ def use(rule) -> None:
     pass is the solver before the three)."""
     new = rule is ArcStep
     arc_length.ArcStep = rule  # type: ignore[misc]
-    arc_length.round_off_ratio = PROBE if new else strict_test  # type: ignore[assignment]
+    round_off.round_off_ratio = PROBE if new else strict_test  # type: ignore[assignment]
     arc_length.iterations_spent = SPENT if new else factorised  # type: ignore[assignment]
 
 
@@ -136,32 +137,16 @@ def truss_lines() -> None:
 
 
 def imperfect_strip(kind: str):
-    """(model, tip nodes, closed-form lateral tip) of the review's strip at 1.5 Pcr."""
-    from scipy.optimize import brentq
-    from scipy.special import ellipk
+    """(model, tip nodes, closed-form lateral tip) of the review's strip at 1.5 Pcr: the
+    test's (tests/test_arc_step.py ``imperfect_column``) and the elastica of
+    validation.references.elastica."""
+    sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
+    from tests.test_arc_step import LENGTH, imperfect_column
+    from validation.references.elastica import buckled_cantilever_column
 
-    from elements import FibrousShell, MindlinShell
-    from femcore import Mesh, Model
-    from materials import ElasticShell, Fabric
-
-    length, width = 100.0, 5.0
-    mesh = Mesh.rectangle(length, width, nx=20, ny=1)
-    model = Model(mesh)
-    if kind == "mindlin":
-        model.add(MindlinShell(ElasticShell(E=1e5, nu=0.0, thickness=1.0, density=1e-9)))
-        bending = 1e5 * width / 12
-    else:
-        fabric = Fabric(
-            thickness=0.3, areal_density=2.85e-10, tension=6000.0, shear=0.2, bending=0.375
-        )
-        model.add(FibrousShell(fabric, clamped="left"))
-        bending = 0.375 * width
-    model.fix("left")
-    tip = mesh.nodes("right")
-    critical = math.pi**2 * bending / (4 * length**2)
-    model.force(tip, (-1.5 * critical / len(tip), 0.0, 1e-4 * critical / len(tip)))
-    k = brentq(lambda k: 2 / math.pi * ellipk(k**2) - math.sqrt(1.5), 1e-9, 0.999999)
-    return model, tip, 2 * k * length / ellipk(k**2)
+    model, tip, bending = imperfect_column(kind)
+    load = 1.5 * math.pi**2 * bending / (4 * LENGTH**2)
+    return model, tip, buckled_cantilever_column(LENGTH, load, bending)["lateral"]
 
 
 def strip_lines() -> None:
