@@ -94,6 +94,9 @@ def test_a_linear_response_gives_the_closed_form_least_squares_interval(dask_sch
     assert result.all_determined and "NOT DETERMINED" not in format_result(result)
 
 
+RATIO_CAP = 18  # the ratio-only fit's evaluations (its test says why)
+
+
 @pytest.mark.slow
 def test_values_that_enter_only_as_a_ratio_are_said_not_determined(dask_scheduler):
     # A heavy cantilever's shape depends on B and rho_A only through B / (rho_A g) (the heavy
@@ -106,6 +109,12 @@ def test_values_that_enter_only_as_a_ratio_are_said_not_determined(dask_schedule
     # (exponents 1, 1), and B / rho_A is determined: within 5 % of 0.1 / 3e-10 (8 cells along
     # the strip, one increment: the mesh's bias, measured 3.2 %; 12.5 % with 4 cells) and
     # inside its 95 % interval (the residuals are that bias, RMS 0.2 mm).
+    # The fit is capped at 18 evaluations (the optimiser's 10 and the Jacobian's 8 at the
+    # end, 51 runs): the optimiser finds the valley of B / rho_A within them and then only
+    # wanders along it, along the undetermined B * rho_A, to the default cap of 34 (96 runs,
+    # twice the time). Measured: at 18 B / rho_A = 3.4378e8, its interval [2.881e8, 4.103e8];
+    # at 34 3.4388e8, [2.882e8, 4.104e8]; at 14 (the optimiser's 6) 3.672e8, 10 % off, and
+    # the test fails there: the cap is where the answer has stopped moving, not before.
     from validation.references.elastica import heavy_cantilever
 
     lengths = [40.0, 60.0, 80.0]
@@ -113,8 +122,9 @@ def test_values_that_enter_only_as_a_ratio_are_said_not_determined(dask_schedule
     case = strip(60.0, 8, 0.1, 3e-10)
     case["solver"]["increments"] = 1
     keys = {"part.0.material.bending": 0.15, "part.0.material.areal_density": 2e-10}
-    result = identify(case, {"mesh.rectangle.lx": lengths, "displacement_right_z": tips}, keys,
-                      scheduler=dask_scheduler, progress=False)  # fmt: skip
+    data = {"mesh.rectangle.lx": lengths, "displacement_right_z": tips}
+    result = identify(case, data, keys, scheduler=dask_scheduler, progress=False,
+                      max_evaluations=RATIO_CAP)  # fmt: skip
     assert np.isnan(result.intervals).all()  # (before, on this mesh: B in [-662, 666])
     assert not result.all_determined
     assert len(result.combinations) == 1 and len(result.undetermined) == 1
