@@ -42,6 +42,7 @@ from femcore.mesh_checks import (
     select_by_predicate,
 )
 from femcore.read_only_state import ReadOnlyState
+from femcore.set_names import set_named
 from femcore.topology import (
     Topology,
     build_topology,
@@ -126,6 +127,10 @@ class Mesh(ReadOnlyState):
         Cell kind (a key of CELL_KINDS) -> (c, nodes_per_cell) node ids, keyword only.
     cell_sets : Mapping[str, Mapping[str, array_like]], optional
         Cell kind -> {name: cell ids or a (c,) bool mask}, keyword only.
+    fold_set_names : bool, optional
+        Find a set by any spelling Abaqus takes for its name (any case, blanks ignored) where
+        the name asked is not one exactly (femcore.set_names); keyword only. True for the
+        mesh of an Abaqus deck (:meth:`read`), False (names exact) otherwise.
 
     Raises
     ------
@@ -139,6 +144,8 @@ class Mesh(ReadOnlyState):
         orientation are checked by :meth:`check`.
     """
 
+    fold_set_names: bool = False  # a mesh pickled before the attribute existed: names exact
+
     def __init__(
         self,
         points: ArrayLike,
@@ -150,7 +157,9 @@ class Mesh(ReadOnlyState):
         *,
         cells: Mapping[str, ArrayLike | None] | None = None,
         cell_sets: Mapping[str, Mapping[str, ArrayLike] | None] | None = None,
+        fold_set_names: bool = False,
     ) -> None:
+        self.fold_set_names = bool(fold_set_names)
         given_cells = _by_kind(
             cells, "cells", {"triangle": triangles, "line": lines}, _LEGACY_CELLS
         )
@@ -387,6 +396,7 @@ class Mesh(ReadOnlyState):
             (almost always a tolerance or coordinate mistake).
         """
         if isinstance(selection, str):
+            selection = set_named(self._node_sets, selection, self.fold_set_names)
             if selection not in self._node_sets:
                 raise ValueError(
                     f"unknown node set {selection!r}; known node sets: {sorted(self._node_sets)}"
@@ -457,7 +467,13 @@ class Mesh(ReadOnlyState):
         pts = validate_points(points)
         if len(pts) != self.n_nodes:
             raise ValueError(f"points must have {self.n_nodes} rows, got {len(pts)}")
-        return Mesh(pts, node_sets=self._node_sets, cells=self._cells, cell_sets=self._cell_sets)
+        return Mesh(
+            pts,
+            node_sets=self._node_sets,
+            cells=self._cells,
+            cell_sets=self._cell_sets,
+            fold_set_names=self.fold_set_names,
+        )
 
     # ----------------------------------------------------------------------------------------
     # Generators
