@@ -5,7 +5,8 @@ a word; a deck's *BOUNDARY, *MATERIAL, *SHELL SECTION or *STEP would vanish sile
 looks only at the lines that start with one "*" (comments start with "**"), of the main deck
 and of the files it includes (femcore.inp_include), so it costs one pass over the text, and
 tells the reader which keywords it does not turn into the mesh and the *INSTANCE lines of an
-assembly, each where it stands (the file and its line).
+assembly, each where it stands (the file and its line); a keyword that makes or moves nodes
+or elements (GEOMETRY_KEYWORDS) is refused there, since ignoring it gives another mesh.
 """
 
 from __future__ import annotations

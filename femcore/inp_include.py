@@ -12,6 +12,10 @@ directory the job was started from). The mesh reader has no job folder of its ow
 main deck's folder stands for it, whatever the working folder of the Python process: a file
 of the same name there is never taken instead.
 
+The data lines of *NODE, *ELEMENT, *NSET and *ELSET may stand in a file of their own
+(``*NODE, INPUT=nodes.txt``): that file's lines are read in place of the keyword's, found by
+the same rule, after the keyword line without its INPUT=.
+
 Every reader of a deck's lines (femcore.inp_deck's keyword scan, femcore.inp_sets' sets)
 reads them through :func:`deck_lines`, so a set in an included file naming the main deck's
 nodes, a set defined in two files, or an *ELSET of sets across files are read by one rule,

@@ -1,7 +1,8 @@
 """The data lines of an Abaqus deck's *NODE and *ELEMENT blocks, read as Abaqus reads them.
 
-A node line is ``label, x, y, z`` where a coordinate left out or left blank is 0 (Abaqus
-Keywords Reference, *NODE: "enter 0" is implied for an empty field), given in the block's
+A node line is ``label, x, y, z`` where a coordinate left out or left blank is 0, as Abaqus
+reads an empty or missing numeric field (Analysis User's Guide, "Input syntax rules"), given
+in the block's
 SYSTEM: R (rectangular, the default) or C (cylindrical: r, theta in degrees, z). Three more
 numbers, the direction cosines of a normal, may follow; the reader computes its shells'
 normals from their elements (docs/theory.md), so it notes them and leaves them. An element

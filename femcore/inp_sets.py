@@ -10,7 +10,12 @@ Abaqus reads them (a data line of labels or set names; GENERATE lines of ``first
 increment]``, increment 1 by default, as many as given; NSET= and ELSET= of *NODE and
 *ELEMENT; a name defined again adds to its set, in whichever file), and a label or a set name
 the deck does not define is refused naming the file, the line and the set. meshio then reads
-the nodes and elements from one text without the *NSET and *ELSET blocks or *INCLUDE lines.
+the nodes and elements from one text without the *NSET and *ELSET blocks or *INCLUDE lines,
+its node lines written out in Cartesian coordinates (femcore.inp_lines). A set name is read as
+Abaqus reads a label ("Input syntax rules"): without quotes, in any case and without blanks,
+so ``Tip`` and ``TIP`` are one set, kept under the spelling the deck first writes (a mesh
+written and read back keeps its names; femcore.set_names finds it by any spelling). An *NSET
+with ELSET holds the nodes of the elements of the element sets it lists.
 """
 
 from __future__ import annotations

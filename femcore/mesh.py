@@ -687,7 +687,11 @@ class Mesh(ReadOnlyState):
         set). An element that MSH 2.2 repeats for each physical group of its
         entity is kept once. Keywords of an Abaqus deck the reader does not turn into the
         mesh (*BOUNDARY, *MATERIAL, *SHELL SECTION, *STEP, ...) are listed in one
-        UserWarning.
+        UserWarning. A deck is read by Abaqus's syntax: a set name in any case and without
+        its blanks is one set, named as the deck first writes it and found by any such
+        spelling (``fold_set_names``); a coordinate left out or blank is 0, SYSTEM=C nodes
+        (r, theta deg, z) are converted; data lines may stand in an INPUT= file; shells
+        (S3, S4 families) and two-node trusses and beams are read (femcore.inp_lines).
 
         Parameters
         ----------
@@ -709,11 +713,14 @@ class Mesh(ReadOnlyState):
             including itself again (naming the including file and line), an
             assembly of several *INSTANCE entries or a moved one, a set naming a set, a
             node or an element the deck does not define, a GENERATE line that is not
-            ``first, last[, increment]``, an element repeating a node (each naming the file
-            and the line: femcore.inp_sets), two gmsh physical groups of one name or one
-            whose name a set cannot take (naming the file and the groups), a mesh too
-            large for the memory available (femcore.memory), or any check of the
-            constructor (e.g. the same triangle twice; naming the file).
+            ``first, last[, increment]``, an element repeating a node, a rigid, surface,
+            membrane or continuum element type, an empty *ELEMENT block, SYSTEM=S, a keyword
+            that makes or moves nodes or elements (*NGEN, *ELGEN, *SYSTEM, ...), a line that
+            is not numbers (each naming the file and the line: femcore.inp_sets), two gmsh
+            physical groups of one name or one whose name a set cannot take (naming the
+            file and the groups), a mesh too large for the memory available
+            (femcore.memory), or any check of the constructor (e.g. the same triangle
+            twice; naming the file).
         """
         from femcore.mesh_io import read_mesh
 
@@ -722,7 +729,8 @@ class Mesh(ReadOnlyState):
     def write(self, path: str | Path, file_format: str | None = None) -> None:
         """Write the mesh through meshio; the format follows the suffix unless given.
 
-        .msh is written as ASCII gmsh 2.2. Sets are kept as NSET/ELSET in .inp and as 0/1
+        .msh is written as ASCII gmsh 2.2, .inp with triangles as S3 shells and lines as
+        T3D2 trusses. Sets are kept as NSET/ELSET in .inp and as 0/1
         mask arrays "nset:<name>" (point data), "elset:<name>" and "lset:<name>" (cell data;
         in general the mask prefix of the cell kind) elsewhere. Known losses: formats without
         point/cell data (e.g. .stl, .obj) drop all sets; .msh drops the cell sets of a mesh
@@ -740,7 +748,8 @@ class Mesh(ReadOnlyState):
         ------
         ValueError
             Unknown format, a mesh without cells, or (for .inp) a name used by the sets of
-            two cell kinds (e.g. both an element set and a line set).
+            two cell kinds (e.g. both an element set and a line set), or set names equal up
+            to case and blanks (one set for Abaqus).
         """
         from femcore.mesh_io import write_mesh
 
