@@ -144,7 +144,7 @@ class Mesh(ReadOnlyState):
         orientation are checked by :meth:`check`.
     """
 
-    fold_set_names: bool = False  # a mesh pickled before the attribute existed: names exact
+    _fold_set_names = False  # a mesh pickled before the attribute existed: names exact
 
     def __init__(
         self,
@@ -159,7 +159,7 @@ class Mesh(ReadOnlyState):
         cell_sets: Mapping[str, Mapping[str, ArrayLike] | None] | None = None,
         fold_set_names: bool = False,
     ) -> None:
-        self.fold_set_names = bool(fold_set_names)
+        self._fold_set_names = bool(fold_set_names)
         given_cells = _by_kind(
             cells, "cells", {"triangle": triangles, "line": lines}, _LEGACY_CELLS
         )
@@ -249,6 +249,11 @@ class Mesh(ReadOnlyState):
     def lines(self) -> np.ndarray:
         """(k, 2) int64 node ids of the line cells, read-only; (0, 2) if there are none."""
         return self._cells["line"]
+
+    @property
+    def fold_set_names(self) -> bool:
+        """Whether a set is found by any spelling Abaqus takes for its name (a deck's mesh)."""
+        return self._fold_set_names
 
     @property
     def node_sets(self) -> Mapping[str, np.ndarray]:
