@@ -91,17 +91,23 @@ class DeckSets:
         """ "deck.inp: line 12", the file and the line of a place."""
         return f"{self.files[place[0]]}: line {place[1]}"
 
-    def name(self, written: str) -> str:
+    def name(self, written: str, where: str = "") -> str:
         """The set a name written in the deck means, as the deck first writes it: Abaqus
         reads a label without quotes in any case and without its blanks ("Input syntax
         rules"), so ``Tip``, ``TIP`` and ``t ip`` are one set, named ``Tip`` if that comes
-        first; a quoted label is read as written."""
+        first; a quoted label is read as written (``where``, the file and line, for the
+        message refusing a quoted and an unquoted set of one spelling)."""
         written = written.strip()
         if len(written) > 1 and written[0] == written[-1] == '"':
             key = shown = written[1:-1]
         else:
             shown = "".join(written.split())
             key = shown.upper()
+        if key not in self.spellings and shown in self.spellings.values():
+            raise ValueError(
+                f"{where}: the deck names two sets {shown!r}, one quoted (read as written) and one "
+                "not (read in any case): the mesh cannot hold both under that name; rename one"
+            )
         return self.spellings.setdefault(key, shown)
 
 
@@ -147,7 +153,7 @@ def scan_deck_sets(path: Path) -> DeckSets:
             at = (file_id, number)
             mode, parameters = _parameters(line)
             if mode in ("NSET", "ELSET"):
-                name = deck.name(parameters.get(mode, ""))
+                name = deck.name(parameters.get(mode, ""), deck_where(file, number))
                 how = "GENERATE" if "GENERATE" in parameters else ""
                 how = "ELSET" if mode == "NSET" and "ELSET" in parameters else how
                 deck.sets.append((mode, name, how, at, []))
@@ -163,7 +169,8 @@ def scan_deck_sets(path: Path) -> DeckSets:
                 deck.node_block_labels.append([])
                 if parameters.get("NSET"):
                     block = len(deck.node_block_labels) - 1
-                    deck.block_sets.append(("NSET", deck.name(parameters["NSET"]), block))
+                    named = deck.name(parameters["NSET"], deck_where(file, number))
+                    deck.block_sets.append(("NSET", named, block))
                 if node_at >= 0:
                     continue  # its lines join the first block's
                 node_at = len(keep)
@@ -180,19 +187,27 @@ def scan_deck_sets(path: Path) -> DeckSets:
             continue
         if mode == "NODE":
             if line.strip():  # meshio's point index: the count of node lines before
-                label, (x, y, z), extra = node_line(line, system, deck_where(file, number))
-                if extra:
-                    deck.normals_at.append((file_id, number))
+                fields = line.split(",")
+                try:  # the common line, 'label, x, y, z' in x, y, z: given to meshio as is
+                    if len(fields) != 4 or system != "R":
+                        raise ValueError
+                    label = int(fields[0])
+                    _ = float(fields[1]), float(fields[2]), float(fields[3])
+                except ValueError:  # the rest (blanks, no z, SYSTEM=C, errors): written out
+                    label, (x, y, z), extra = node_line(line, system, deck_where(file, number))
+                    if extra:
+                        deck.normals_at.append((file_id, number))
+                    line = f"{label}, {x!r}, {y!r}, {z!r}"
                 deck.node_labels[label] = len(node_lines)
                 deck.node_block_labels[-1].append(label)
-                node_lines.append(f"{label}, {x!r}, {y!r}, {z!r}")
+                node_lines.append(line)
             continue
         keep.append(line)
         if mode == "ELEMENT" and line.strip():
             numbers = deck.element_numbers[-1]
             before = len(numbers)
             try:
-                numbers.extend(int(item) for item in line.split(",") if item.strip())
+                numbers.extend(map(int, line.replace(",", " ").split()))
             except ValueError:
                 raise ValueError(
                     f"{deck_where(file, number)}: *ELEMENT line {line.strip()!r}: expected "
@@ -226,7 +241,9 @@ def _start_element_block(
     deck.element_lines.append([])
     if parameters.get("ELSET"):
         block = len(deck.element_numbers) - 1
-        deck.block_sets.append(("ELSET", deck.name(parameters["ELSET"]), block))
+        deck.block_sets.append(
+            ("ELSET", deck.name(parameters["ELSET"], deck_where(file, number)), block)
+        )
 
 
 def _check_element_blocks(deck: DeckSets) -> None:
@@ -342,7 +359,7 @@ def resolve_deck_sets(deck: DeckSets) -> tuple[dict[str, np.ndarray], dict[str, 
                 if item.lstrip("+-").isdigit() and how != "ELSET":
                     labels.append(int(item))
                 else:
-                    members.append(deck.name(item))
+                    members.append(deck.name(item, deck.where(place)))
         store: dict = point_sets if kind == "NSET" and how != "ELSET" else cell_sets
         unknown = [member for member in members if member not in store]
         if unknown:

@@ -205,3 +205,30 @@ def test_a_system_moving_the_nodes_that_follow_is_refused_naming_it(tmp_path):
     path = deck(tmp_path, "*SYSTEM\n10., 0., 0.\n" + NODES + SKIN)
     with pytest.raises(ValueError, match=r"deck.inp: line 1: \*SYSTEM makes or moves nodes"):
         Mesh.read(path)
+
+
+def test_the_direction_cosines_of_a_normal_after_the_coordinates_are_left_with_a_warning(
+    tmp_path,
+):
+    text = "*NODE\n1, 0., 0., 0., 0., 0., 1.\n2, 50., 0., 0.\n3, 0., 40., 0.\n"
+    with pytest.warns(UserWarning, match=r"line 2 \(and 0 more \*NODE lines\) gives the direc"):
+        mesh = Mesh.read(deck(tmp_path, text + "*ELEMENT, TYPE=S3\n1, 1, 2, 3\n"))
+    assert mesh.points.tolist() == [[0, 0, 0], [50, 0, 0], [0, 40, 0]]
+
+
+def test_a_keyword_line_in_a_file_of_data_lines_is_refused_naming_both(tmp_path):
+    (tmp_path / "nodes.txt").write_text("1, 0., 0., 0.\n*ELEMENT, TYPE=S3\n")
+    with pytest.raises(ValueError, match=r"line 1: \*NODE, INPUT=nodes.txt: .*nodes.txt line 2 "
+                                         r"is a keyword line"):  # fmt: skip
+        Mesh.read(deck(tmp_path, "*NODE, INPUT=nodes.txt\n"))
+
+
+def test_a_quoted_name_is_read_as_written_and_one_clashing_with_another_set_refused(tmp_path):
+    text = NODES + SKIN + '*NSET, NSET="My Tip"\n2\n*NSET, NSET="My TIP"\n4\n'
+    mesh = Mesh.read(deck(tmp_path, text))
+    assert mesh.node_sets["My Tip"].tolist() == [1] and mesh.node_sets["My TIP"].tolist() == [3]
+    with pytest.raises(
+        ValueError,
+        match=r"deck.inp: line 11: the deck names two sets 'Tip', one quoted \(read as written\)",
+    ):
+        Mesh.read(deck(tmp_path, NODES + SKIN + '*NSET, NSET=Tip\n2\n*NSET, NSET="Tip"\n4\n'))
