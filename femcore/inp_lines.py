@@ -54,6 +54,12 @@ def element_type_refusal(element_type: str) -> str | None:
     if not upper:
         return "no TYPE= (expected e.g. *ELEMENT, TYPE=S3)"
     accepted = ", ".join(ELEMENT_NODES)
+    if upper == "R3D3":  # what meshio writes for every triangle, shells included
+        return (
+            f"TYPE={element_type} is {_REFUSED_FAMILIES[0][1]}; if they are the shell's own "
+            "triangles (meshio, and Mesh.write before it wrote S3, write every triangle as "
+            "R3D3), write TYPE=S3"
+        )
     for prefixes, what in _REFUSED_FAMILIES:
         if upper.startswith(prefixes):
             return f"TYPE={element_type} is {what}; the reader takes {accepted}"

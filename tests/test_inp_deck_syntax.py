@@ -73,7 +73,11 @@ def test_names_of_a_mesh_not_read_from_a_deck_stay_exact(tmp_path):
 @pytest.mark.parametrize(
     "element, said",
     [
-        ("R3D3, ELSET=DIE\n101, 1, 2, 4", r"TYPE=R3D3 is a rigid element: .* separate surface"),
+        (
+            "R3D3, ELSET=DIE\n101, 1, 2, 4",
+            r"TYPE=R3D3 is a rigid element: .* separate surface .*"
+            r"shell's own triangles .* write TYPE=S3",
+        ),
         ("R3D4\n101, 1, 2, 4, 3", r"TYPE=R3D4 is a rigid element"),
         ("M3D3\n101, 1, 2, 4", r"TYPE=M3D3 is a membrane element"),
         ("SFM3D3\n101, 1, 2, 4", r"TYPE=SFM3D3 is a surface element"),
