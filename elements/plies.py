@@ -234,7 +234,13 @@ class PlyStack:
         for k in range(count):
             node_sets[f"ply_{k + 1}"] = self.ply_nodes[k]
             cell_sets[f"ply_{k + 1}"] = self.ply_cells[k]
-        self.mesh = Mesh(points, triangles=triangles, node_sets=node_sets, element_sets=cell_sets)
+        self.mesh = Mesh(
+            points,
+            triangles=triangles,
+            node_sets=node_sets,
+            element_sets=cell_sets,
+            fold_set_names=mesh.fold_set_names,  # a deck's names, found as in its mesh
+        )
 
     @property
     def ply_thickness(self) -> float:

@@ -35,7 +35,7 @@ from elements.tools import RigidTool
 from femcore.checks import as_flag, check_positive
 from femcore.jit import threads_for
 from femcore.loads import AmplitudeFunction
-from femcore.topology import ZERO_AREA_TOL
+from femcore.topology import ZERO_AREA_TOL, opposed_neighbours
 
 __all__ = ["RigidSurface"]
 
@@ -73,6 +73,24 @@ CANDIDATES = 8
 # points on the nearest facets, the candidates' ball), some twenty times a force pass's cell:
 # the k-d tree's queries of k points run on the threads of a loop over SEARCH_WEIGHT k cells.
 SEARCH_WEIGHT = 20
+
+
+def _check_facets_agree(triangles: np.ndarray) -> None:
+    """ValueError naming the facets for two neighbours whose normals point to opposite
+    sides (femcore.topology.opposed_neighbours): the tool's side would change from facet to
+    facet, a point above one of them inside the other. Separate pieces may face their own
+    ways; an edge of three or more facets is not judged."""
+    opposed = opposed_neighbours(triangles)
+    if len(opposed):
+        t0, t1, start, end = opposed[0].tolist()
+        more = f" (and {len(opposed) - 1} more such pairs)" if len(opposed) > 1 else ""
+        raise ValueError(
+            f"RigidSurface: facets {t0} and {t1} both run their shared edge {start} -> {end} "
+            f"the same way{more}: their normals point to opposite sides, so a point above "
+            "one is inside the other; reorient the facets so that neighbours run a shared "
+            "edge in opposite directions (every normal towards the body), e.g. with the "
+            "mesher's 'reorient' or 'fix normals'"
+        )
 
 
 def _workers(points: int) -> int:
@@ -189,6 +207,7 @@ class RigidSurface(RigidTool):
                 f"RigidSurface: {flat.size} facet(s) of no area (coincident or collinear "
                 f"nodes): {shown}"
             )
+        _check_facets_agree(triangles)
         self.flipped = as_flag(flip, "RigidSurface flip")
         self.normals = (-1.0 if flip else 1.0) * normal / length[:, None]
         self.edge_start, self.edge_out = open_edges(triangles, self.corners)

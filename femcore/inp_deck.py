@@ -5,7 +5,8 @@ a word; a deck's *BOUNDARY, *MATERIAL, *SHELL SECTION or *STEP would vanish sile
 looks only at the lines that start with one "*" (comments start with "**"), of the main deck
 and of the files it includes (femcore.inp_include), so it costs one pass over the text, and
 tells the reader which keywords it does not turn into the mesh and the *INSTANCE lines of an
-assembly, each where it stands (the file and its line).
+assembly, each where it stands (the file and its line); a keyword that makes or moves nodes
+or elements (GEOMETRY_KEYWORDS) is refused there, since ignoring it gives another mesh.
 """
 
 from __future__ import annotations
@@ -15,7 +16,7 @@ from pathlib import Path
 
 from femcore.inp_include import deck_lines, located
 
-__all__ = ["MESH_KEYWORDS", "DeckScan", "scan_deck"]
+__all__ = ["GEOMETRY_KEYWORDS", "MESH_KEYWORDS", "DeckScan", "scan_deck"]
 
 MESH_KEYWORDS = frozenset({"NODE", "ELEMENT", "NSET", "ELSET"})
 """Keywords the mesh reader turns into the mesh: nodes, elements, node and element sets."""
@@ -33,6 +34,23 @@ _NEUTRAL_KEYWORDS = frozenset(
         "INSTANCE",  # one, unmoved: checked by femcore.mesh_io (DeckScan.instances)
         "END INSTANCE",
         "END STEP",  # its *STEP is listed
+    }
+)
+
+
+# Keywords that make, copy or move nodes or elements (Abaqus Keywords Reference): a deck
+# read without them is another mesh than the one Abaqus builds, so it is refused, not
+# read with a warning.
+GEOMETRY_KEYWORDS = frozenset(
+    {
+        "NGEN",  # nodes generated along a line or an arc between two nodes
+        "NFILL",  # nodes filling the region between two node sets
+        "NCOPY",  # nodes copied, moved, rotated or reflected
+        "NMAP",  # nodes mapped from another coordinate system, scaled or moved
+        "ELGEN",  # elements repeated along node-label increments
+        "ELCOPY",  # elements copied onto other nodes
+        "SYSTEM",  # a local system the nodes that follow are given in
+        "IMPERFECTION",  # the nodes moved by a buckling mode or a list of displacements
     }
 )
 
@@ -86,7 +104,8 @@ def scan_deck(path: str | Path) -> DeckScan:
     ------
     ValueError
         An *INCLUDE that cannot be followed, or a file that is not text
-        (femcore.inp_include.deck_lines).
+        (femcore.inp_include.deck_lines); a keyword that makes or moves nodes or elements
+        (GEOMETRY_KEYWORDS), naming it and its place.
     """
     path = Path(path)
     scan = DeckScan()
@@ -105,6 +124,13 @@ def scan_deck(path: str | Path) -> DeckScan:
             instance = []
             place = located(file, number, path)
             scan.instances.append((place, _parameter(parameters, "NAME") or "?", instance))
+        elif keyword in GEOMETRY_KEYWORDS:
+            raise ValueError(
+                f"{path}: {located(file, number, path)}: *{keyword} makes or moves nodes or "
+                "elements, and the .inp reader does not: the mesh read would not be the one "
+                "Abaqus builds; write every node and element out (*NODE, *ELEMENT lines, as "
+                "a pre-processor's 'write input' does)"
+            )
         elif keyword not in MESH_KEYWORDS and keyword not in _NEUTRAL_KEYWORDS:
             scan.ignored.setdefault(keyword, []).append(located(file, number, path))
     return scan

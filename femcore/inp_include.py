@@ -12,6 +12,10 @@ directory the job was started from). The mesh reader has no job folder of its ow
 main deck's folder stands for it, whatever the working folder of the Python process: a file
 of the same name there is never taken instead.
 
+The data lines of *NODE, *ELEMENT, *NSET and *ELSET may stand in a file of their own
+(``*NODE, INPUT=nodes.txt``): that file's lines are read in place of the keyword's, found by
+the same rule, after the keyword line without its INPUT=.
+
 Every reader of a deck's lines (femcore.inp_deck's keyword scan, femcore.inp_sets' sets)
 reads them through :func:`deck_lines`, so a set in an included file naming the main deck's
 nodes, a set defined in two files, or an *ELSET of sets across files are read by one rule,
@@ -72,16 +76,28 @@ def _lines(path: Path, job: Path, chain: list[Path]) -> Iterator[tuple[Path, int
             f"cannot read {path} as 'abaqus': not a text file ({err.reason} at byte {err.start})"
         ) from None
     for number, line in enumerate(text.splitlines(), start=1):
-        if not (line.startswith("*") and _is_include(line)):
+        data_keyword = line.startswith("*") and _data_keyword(line)
+        if not (line.startswith("*") and (_is_include(line) or data_keyword)):
             yield path, number, line
             continue
-        where = f"{path}: line {number}: *INCLUDE"
+        keyword = f"*{data_keyword}" if data_keyword else "*INCLUDE"
+        where = f"{path}: line {number}: {keyword}"
         named = _input(line)
+        if data_keyword and not named:  # the data lines follow the keyword line
+            yield path, number, line
+            continue
         if not named:
             raise ValueError(f"{where}: no INPUT= file name (expected *INCLUDE, INPUT=mesh.inp)")
         included = job / named  # an absolute INPUT= stays itself
         if not included.is_file():
             raise ValueError(f"{where}, INPUT={named}: {_missing(included, path, named, job)}")
+        if data_keyword:
+            # The keyword's data lines stand in the file INPUT= names (Abaqus Keywords
+            # Reference, *NODE, *ELEMENT, *NSET, *ELSET: INPUT): the keyword line without
+            # INPUT=, then those lines, read where they stand.
+            yield path, number, _without_input(line)
+            yield from _data_lines(included, f"{where}, INPUT={named}")
+            continue
         resolved = included.resolve()
         if resolved in chain:
             cycle = " -> ".join(str(file) for file in [*chain[chain.index(resolved) :], resolved])
@@ -99,6 +115,45 @@ def _is_include(line: str) -> bool:
         return False
     head = line[1:].partition(",")[0]
     return "".join(head.split()).upper() == "INCLUDE"
+
+
+# The keywords whose data lines may stand in a file of their own (INPUT=).
+_DATA_KEYWORDS = frozenset({"NODE", "ELEMENT", "NSET", "ELSET"})
+
+
+def _data_keyword(line: str) -> str:
+    """The keyword (upper case) of the keyword line ``line`` when it is one whose data lines
+    INPUT= may name, "" otherwise."""
+    if line.startswith("**"):
+        return ""
+    keyword = " ".join(line[1:].partition(",")[0].split()).upper()
+    return keyword if keyword in _DATA_KEYWORDS else ""
+
+
+def _without_input(line: str) -> str:
+    """The keyword line ``line`` without its INPUT= parameter."""
+    head, *items = line.split(",")
+    kept = [item for item in items if item.partition("=")[0].strip().upper() != "INPUT"]
+    return ",".join([head, *kept])
+
+
+def _data_lines(path: Path, where: str) -> Iterator[tuple[Path, int, str]]:
+    """The lines of a file of data lines named by INPUT=; ValueError naming ``where`` and the
+    line for a keyword line in it (such a file holds data lines only)."""
+    try:
+        text = path.read_text(encoding="utf-8")
+    except UnicodeDecodeError as err:
+        raise ValueError(
+            f"{where}: cannot read {path}: not a text file ({err.reason} at byte {err.start})"
+        ) from None
+    for number, line in enumerate(text.splitlines(), start=1):
+        if line.startswith("*") and not line.startswith("**"):
+            raise ValueError(
+                f"{where}: {path} line {number} is a keyword line ({line.strip()!r}); a file "
+                "named by a keyword's INPUT= holds that keyword's data lines only (use "
+                "*INCLUDE for a file of keywords)"
+            )
+        yield path, number, line
 
 
 def _input(line: str) -> str:

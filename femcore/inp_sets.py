@@ -10,7 +10,12 @@ Abaqus reads them (a data line of labels or set names; GENERATE lines of ``first
 increment]``, increment 1 by default, as many as given; NSET= and ELSET= of *NODE and
 *ELEMENT; a name defined again adds to its set, in whichever file), and a label or a set name
 the deck does not define is refused naming the file, the line and the set. meshio then reads
-the nodes and elements from one text without the *NSET and *ELSET blocks or *INCLUDE lines.
+the nodes and elements from one text without the *NSET and *ELSET blocks or *INCLUDE lines,
+its node lines written out in Cartesian coordinates (femcore.inp_lines). A set name is read as
+Abaqus reads a label ("Input syntax rules"): without quotes, in any case and without blanks,
+so ``Tip`` and ``TIP`` are one set, kept under the spelling the deck first writes (a mesh
+written and read back keeps its names; femcore.set_names finds it by any spelling). An *NSET
+with ELSET holds the nodes of the elements of the element sets it lists.
 """
 
 from __future__ import annotations
@@ -22,6 +27,7 @@ from pathlib import Path
 import numpy as np
 
 from femcore.inp_include import deck_lines
+from femcore.inp_lines import ELEMENT_NODES, element_type_refusal, node_line
 
 __all__ = ["DeckSets", "resolve_deck_sets", "scan_deck_sets"]
 
@@ -51,11 +57,19 @@ class DeckSets:
         Per *ELEMENT block, the integers of its data lines (label, nodes, label, ...).
     element_lines : list[list[tuple[int, int, int]]]
         Per *ELEMENT block, (index of a data line's first integer, its line number, its file).
-    sets : list[tuple[str, str, bool, tuple[int, int], list[tuple[tuple[int, int], list[str]]]]]
-        (NSET or ELSET, name, GENERATE, keyword line's place, [(place, items)]) in deck order.
+    sets : list[tuple[str, str, str, tuple[int, int], list[tuple[tuple[int, int], list[str]]]]]
+        (NSET or ELSET, name, how its data lines read: "GENERATE", "ELSET" (an *NSET of the
+        nodes of element sets) or "", keyword line's place, [(place, items)]) in deck order.
     block_sets : list[tuple[str, str, int]]
         NSET= of *NODE and ELSET= of *ELEMENT: (NSET or ELSET, name, *NODE or *ELEMENT
         block).
+    element_types : list[tuple[str, int, tuple[int, int]]]
+        Per *ELEMENT block, (TYPE= as written, nodes per element, keyword line's place).
+    spellings : dict[str, str]
+        A set name's key (upper case without blanks; a quoted name as written) -> the name
+        as the deck first writes it, which the mesh's set takes.
+    normals_at : list[tuple[int, int]]
+        The places of node lines giving the direction cosines of a normal (not read).
     """
 
     files: list[Path] = field(default_factory=list)
@@ -65,14 +79,36 @@ class DeckSets:
     node_count: int = 0
     element_numbers: list[list[int]] = field(default_factory=list)
     element_lines: list[list[tuple[int, int, int]]] = field(default_factory=list)
-    sets: list[tuple[str, str, bool, tuple[int, int], list[tuple[tuple[int, int], list[str]]]]] = (
+    sets: list[tuple[str, str, str, tuple[int, int], list[tuple[tuple[int, int], list[str]]]]] = (
         field(default_factory=list)
     )
     block_sets: list[tuple[str, str, int]] = field(default_factory=list)
+    element_types: list[tuple[str, int, tuple[int, int]]] = field(default_factory=list)
+    spellings: dict[str, str] = field(default_factory=dict)
+    normals_at: list[tuple[int, int]] = field(default_factory=list)
 
     def where(self, place: tuple[int, int]) -> str:
         """ "deck.inp: line 12", the file and the line of a place."""
         return f"{self.files[place[0]]}: line {place[1]}"
+
+    def name(self, written: str, where: str = "") -> str:
+        """The set a name written in the deck means, as the deck first writes it: Abaqus
+        reads a label without quotes in any case and without its blanks ("Input syntax
+        rules"), so ``Tip``, ``TIP`` and ``t ip`` are one set, named ``Tip`` if that comes
+        first; a quoted label is read as written (``where``, the file and line, for the
+        message refusing a quoted and an unquoted set of one spelling)."""
+        written = written.strip()
+        if len(written) > 1 and written[0] == written[-1] == '"':
+            key = shown = written[1:-1]
+        else:
+            shown = "".join(written.split())
+            key = shown.upper()
+        if key not in self.spellings and shown in self.spellings.values():
+            raise ValueError(
+                f"{where}: the deck names two sets {shown!r}, one quoted (read as written) and one "
+                "not (read in any case): the mesh cannot hold both under that name; rename one"
+            )
+        return self.spellings.setdefault(key, shown)
 
 
 def _parameters(line: str) -> tuple[str, dict[str, str]]:
@@ -88,20 +124,25 @@ def _parameters(line: str) -> tuple[str, dict[str, str]]:
 
 def scan_deck_sets(path: Path) -> DeckSets:
     """The sets of the deck at ``path`` and of the files it includes, as written, and its text
-    without them, for meshio.
+    without them, for meshio (its node lines as ``label, x, y, z`` in Cartesian coordinates,
+    femcore.inp_lines).
 
     Raises
     ------
     ValueError
         An *INCLUDE that cannot be followed, or a file that is not text
-        (femcore.inp_include.deck_lines).
+        (femcore.inp_include.deck_lines); naming the file and the line: a *NODE line that is
+        not ``label, x, y, z`` (blank or missing coordinates are 0), a SYSTEM= other than R
+        or C, an element type the reader does not take (femcore.inp_lines), an *ELEMENT line
+        that is not integers, an *ELEMENT block with no element or whose integers are not a
+        whole number of elements.
     """
     deck = DeckSets()
     file_ids: dict[Path, int] = {}
     keep: list[str] = []
     node_lines: list[str] = []  # every *NODE block's, for the first block's place in ``keep``
     node_at = -1
-    mode = ""
+    mode, system = "", "R"
     current, file_id = None, 0
     for file, number, line in deck_lines(path):
         if line.startswith("**"):
@@ -112,23 +153,31 @@ def scan_deck_sets(path: Path) -> DeckSets:
             at = (file_id, number)
             mode, parameters = _parameters(line)
             if mode in ("NSET", "ELSET"):
-                name = parameters.get(mode, "")
-                deck.sets.append((mode, name, "GENERATE" in parameters, at, []))
+                name = deck.name(parameters.get(mode, ""), deck_where(file, number))
+                how = "GENERATE" if "GENERATE" in parameters else ""
+                how = "ELSET" if mode == "NSET" and "ELSET" in parameters else how
+                deck.sets.append((mode, name, how, at, []))
                 continue  # not for meshio
             if mode == "NODE":
+                system = parameters.get("SYSTEM", "R").upper() or "R"
+                if system not in ("R", "C"):
+                    raise ValueError(
+                        f"{deck_where(file, number)}: *NODE, SYSTEM={parameters['SYSTEM']}: "
+                        "the reader takes SYSTEM=R (x, y, z) and SYSTEM=C (r, theta in "
+                        "degrees, z); give the nodes in one of these"
+                    )
                 deck.node_block_labels.append([])
                 if parameters.get("NSET"):
                     block = len(deck.node_block_labels) - 1
-                    deck.block_sets.append(("NSET", parameters["NSET"], block))
+                    named = deck.name(parameters["NSET"], deck_where(file, number))
+                    deck.block_sets.append(("NSET", named, block))
                 if node_at >= 0:
                     continue  # its lines join the first block's
                 node_at = len(keep)
+                line = "*NODE"  # its lines are Cartesian by now (SYSTEM= read)
             if mode == "ELEMENT":
-                deck.element_numbers.append([])
-                deck.element_lines.append([])
-                if parameters.get("ELSET"):
-                    block = len(deck.element_numbers) - 1
-                    deck.block_sets.append(("ELSET", parameters["ELSET"], block))
+                _start_element_block(deck, parameters, file, number, at)
+                line = f"*ELEMENT, TYPE={deck.element_types[-1][0].strip().upper()}"
             keep.append(line)
             continue
         if mode in ("NSET", "ELSET"):
@@ -138,35 +187,110 @@ def scan_deck_sets(path: Path) -> DeckSets:
             continue
         if mode == "NODE":
             if line.strip():  # meshio's point index: the count of node lines before
-                label = line.split(",", 1)[0].strip()
-                if label.lstrip("+-").isdigit():
-                    deck.node_labels[int(label)] = len(node_lines)
-                    deck.node_block_labels[-1].append(int(label))
+                fields = line.split(",")
+                try:  # the common line, 'label, x, y, z' in x, y, z: given to meshio as is
+                    if len(fields) != 4 or system != "R":
+                        raise ValueError
+                    label = int(fields[0])
+                    _ = float(fields[1]), float(fields[2]), float(fields[3])
+                except ValueError:  # the rest (blanks, no z, SYSTEM=C, errors): written out
+                    label, (x, y, z), extra = node_line(line, system, deck_where(file, number))
+                    if extra:
+                        deck.normals_at.append((file_id, number))
+                    line = f"{label}, {x!r}, {y!r}, {z!r}"
+                deck.node_labels[label] = len(node_lines)
+                deck.node_block_labels[-1].append(label)
                 node_lines.append(line)
             continue
         keep.append(line)
-        if mode == "ELEMENT":
+        if mode == "ELEMENT" and line.strip():
             numbers = deck.element_numbers[-1]
             before = len(numbers)
             try:
                 numbers.extend(map(int, line.replace(",", " ").split()))
             except ValueError:
-                del numbers[before:]  # meshio says what is wrong with the line
+                raise ValueError(
+                    f"{deck_where(file, number)}: *ELEMENT line {line.strip()!r}: expected "
+                    "integers 'label, node, node, ...'"
+                ) from None
             if len(numbers) > before:
                 deck.element_lines[-1].append((before, number, file_id))
     deck.files = list(file_ids) or [path]
+    _check_element_blocks(deck)
     deck.node_count = len(node_lines)
     keep[node_at + 1 : node_at + 1] = node_lines if node_at >= 0 else []
     deck.mesh_text = "\n".join(keep) + "\n"
     return deck
 
 
-def resolve_deck_sets(
-    deck: DeckSets, nodes_per_cell: list[int]
-) -> tuple[dict[str, np.ndarray], dict[str, list[np.ndarray]]]:
+def deck_where(file: Path, number: int) -> str:
+    """ "deck.inp: line 12", for messages."""
+    return f"{file}: line {number}"
+
+
+def _start_element_block(
+    deck: DeckSets, parameters: dict[str, str], file: Path, number: int, at: tuple[int, int]
+) -> None:
+    """Open an *ELEMENT block: its type checked (femcore.inp_lines), its ELSET= noted."""
+    written = parameters.get("TYPE", "")
+    refusal = element_type_refusal(written)
+    if refusal:
+        raise ValueError(f"{deck_where(file, number)}: *ELEMENT: {refusal}")
+    deck.element_types.append((written, ELEMENT_NODES[written.strip().upper()], at))
+    deck.element_numbers.append([])
+    deck.element_lines.append([])
+    if parameters.get("ELSET"):
+        block = len(deck.element_numbers) - 1
+        deck.block_sets.append(
+            ("ELSET", deck.name(parameters["ELSET"], deck_where(file, number)), block)
+        )
+
+
+def _check_element_blocks(deck: DeckSets) -> None:
+    """ValueError naming the block for an *ELEMENT block with no element, or whose integers
+    are not a whole number of (label, nodes...) elements."""
+    for numbers, (written, per_cell, at) in zip(
+        deck.element_numbers, deck.element_types, strict=True
+    ):
+        what = f"{deck.where(at)}: *ELEMENT, TYPE={written}"
+        if not numbers:
+            raise ValueError(
+                f"{what}: the block has no element line; give its elements (label, then "
+                f"{per_cell} node labels per line) or remove the keyword line"
+            )
+        if len(numbers) % (per_cell + 1):
+            raise ValueError(
+                f"{what}: its lines hold {len(numbers)} integers, not a whole number of "
+                f"elements of {per_cell + 1} (label, then {per_cell} node labels)"
+            )
+    nodes = _Labels(np.fromiter(deck.node_labels, dtype=np.int64, count=len(deck.node_labels)))
+    for block, numbers in enumerate(deck.element_numbers):
+        per_cell = deck.element_types[block][1]
+        rows = np.array(numbers, dtype=np.int64).reshape(-1, per_cell + 1)
+        unknown = np.flatnonzero(
+            (nodes.find(rows[:, 1:].reshape(-1)) < 0).reshape(rows[:, 1:].shape).any(axis=1)
+        )
+        if unknown.size:
+            row = rows[unknown[0]]
+            missing = [label for label in row[1:].tolist() if label not in deck.node_labels]
+            raise ValueError(
+                f"{_element_place(deck, block, int(unknown[0]))}: element {row[0]} names node "
+                f"{missing[0]}, which the deck does not define (no *NODE line of that label)"
+            )
+
+
+def _element_place(deck: DeckSets, block: int, row: int) -> str:
+    """ "deck.inp: line 12", where element ``row`` of *ELEMENT block ``block`` starts."""
+    starts = deck.element_lines[block]
+    first = row * (deck.element_types[block][1] + 1)
+    _, line, file = starts[bisect_right(starts, (first, 1 << 62, 0)) - 1]
+    return deck.where((file, line))
+
+
+def resolve_deck_sets(deck: DeckSets) -> tuple[dict[str, np.ndarray], dict[str, list[np.ndarray]]]:
     """The sets of ``deck`` in meshio's numbering: (name -> node indices, name -> one array
-    of local element indices per *ELEMENT block), given the nodes per element of each block
-    as meshio read it.
+    of local element indices per *ELEMENT block); an *NSET with ELSET holds the nodes of the
+    elements of the element sets it lists.
 
     Raises
     ------
@@ -177,11 +301,12 @@ def resolve_deck_sets(
         an element that repeats a node (a collapsed quadrilateral).
     """
     per_block_labels: list[np.ndarray] = []
+    element_nodes: list[np.ndarray] = []  # per block, (elements, nodes per element) labels
     blocks: list[np.ndarray] = []
     locals_: list[np.ndarray] = []
     sizes: list[int] = []
     for block, (numbers, per_cell) in enumerate(
-        zip(deck.element_numbers, nodes_per_cell, strict=True)
+        zip(deck.element_numbers, [per_cell for _, per_cell, _ in deck.element_types], strict=True)
     ):
         rows = np.array(numbers, dtype=np.int64).reshape(-1, per_cell + 1)
         sizes.append(len(rows))
@@ -189,15 +314,13 @@ def resolve_deck_sets(
         repeats = np.flatnonzero((ordered[:, 1:] == ordered[:, :-1]).any(axis=1))
         if repeats.size:
             row = rows[repeats[0]]
-            starts = deck.element_lines[block]
-            first = int(repeats[0]) * (per_cell + 1)
-            _, line, file = starts[bisect_right(starts, (first, 1 << 62, 0)) - 1]
             raise ValueError(
-                f"{deck.where((file, line))}: element {row[0]} repeats a node in "
-                f"{tuple(row[1:].tolist())} (a collapsed element): write it as the "
+                f"{_element_place(deck, block, int(repeats[0]))}: element {row[0]} repeats "
+                f"a node in {tuple(row[1:].tolist())} (a collapsed element): write it as the "
                 "element it is (an S3 triangle for a quadrilateral with one side collapsed)"
             )
         per_block_labels.append(rows[:, 0])
+        element_nodes.append(rows[:, 1:])
         blocks.append(np.full(len(rows), block, dtype=np.int64))
         locals_.append(np.arange(len(rows), dtype=np.int64))
     elements = _Labels(np.concatenate(per_block_labels or [np.zeros(0, np.int64)]))
@@ -222,29 +345,37 @@ def resolve_deck_sets(
                 np.arange(size, dtype=np.int64) if index == block else before[index]
                 for index, size in enumerate(sizes)
             ]
-    for kind, name, generate, at, data in deck.sets:
+    for kind, name, how, at, data in deck.sets:
         what = f"{deck.where(at)}: *{kind} {name!r}"
         if not name:
             raise ValueError(f"{what}: no {kind}= name")
         labels: list[int] = []
         members: list[str] = []
         for place, items in data:
-            if generate:
+            if how == "GENERATE":
                 labels.extend(_generated(items, f"{deck.where(place)}: *{kind} {name!r}"))
                 continue
             for item in items:
-                if item.lstrip("+-").isdigit():
+                if item.lstrip("+-").isdigit() and how != "ELSET":
                     labels.append(int(item))
                 else:
-                    members.append(item)
-        store: dict = point_sets if kind == "NSET" else cell_sets
+                    members.append(deck.name(item, deck.where(place)))
+        store: dict = point_sets if kind == "NSET" and how != "ELSET" else cell_sets
         unknown = [member for member in members if member not in store]
         if unknown:
+            sets_of = "element sets" if how == "ELSET" else "sets"
             raise ValueError(
-                f"{what} joins the sets {unknown}, which the deck does not define before it "
-                f"(known: {sorted(store)})"
+                f"{what} joins the {sets_of} {unknown}, which the deck does not define before "
+                f"it (known: {sorted(store)})"
             )
-        if kind == "NSET":
+        if how == "ELSET":  # the nodes of the elements of the element sets listed
+            ids = [point_sets.get(name, np.zeros(0, dtype=np.int64))]
+            for member in members:
+                for block, local in enumerate(cell_sets[member]):
+                    labels_of = element_nodes[block][local].reshape(-1).tolist()
+                    ids.append(node_index[nodes.find(labels_of)])
+            point_sets[name] = np.unique(np.concatenate(ids))
+        elif kind == "NSET":
             found = nodes.defined(labels, f"{what} names node")
             ids = [node_index[found]]
             ids += [point_sets[member] for member in [*members, name] if member in point_sets]
@@ -274,7 +405,7 @@ class _Labels:
         self.order = np.argsort(labels, kind="stable")
         self.sorted = labels[self.order]
 
-    def find(self, wanted: list[int]) -> np.ndarray:
+    def find(self, wanted: list[int] | np.ndarray) -> np.ndarray:
         """The index of each wanted label in the labels given, -1 where it is not one."""
         query = np.asarray(wanted, dtype=np.int64)
         at = np.minimum(np.searchsorted(self.sorted, query), max(len(self.sorted) - 1, 0))

@@ -42,6 +42,7 @@ from femcore.mesh_checks import (
     select_by_predicate,
 )
 from femcore.read_only_state import ReadOnlyState
+from femcore.set_names import set_named
 from femcore.topology import (
     Topology,
     build_topology,
@@ -126,6 +127,10 @@ class Mesh(ReadOnlyState):
         Cell kind (a key of CELL_KINDS) -> (c, nodes_per_cell) node ids, keyword only.
     cell_sets : Mapping[str, Mapping[str, array_like]], optional
         Cell kind -> {name: cell ids or a (c,) bool mask}, keyword only.
+    fold_set_names : bool, optional
+        Find a set by any spelling Abaqus takes for its name (any case, blanks ignored) where
+        the name asked is not one exactly (femcore.set_names); keyword only. True for the
+        mesh of an Abaqus deck (:meth:`read`), False (names exact) otherwise.
 
     Raises
     ------
@@ -139,6 +144,8 @@ class Mesh(ReadOnlyState):
         orientation are checked by :meth:`check`.
     """
 
+    _fold_set_names = False  # a mesh pickled before the attribute existed: names exact
+
     def __init__(
         self,
         points: ArrayLike,
@@ -150,7 +157,9 @@ class Mesh(ReadOnlyState):
         *,
         cells: Mapping[str, ArrayLike | None] | None = None,
         cell_sets: Mapping[str, Mapping[str, ArrayLike] | None] | None = None,
+        fold_set_names: bool = False,
     ) -> None:
+        self._fold_set_names = bool(fold_set_names)
         given_cells = _by_kind(
             cells, "cells", {"triangle": triangles, "line": lines}, _LEGACY_CELLS
         )
@@ -240,6 +249,11 @@ class Mesh(ReadOnlyState):
     def lines(self) -> np.ndarray:
         """(k, 2) int64 node ids of the line cells, read-only; (0, 2) if there are none."""
         return self._cells["line"]
+
+    @property
+    def fold_set_names(self) -> bool:
+        """Whether a set is found by any spelling Abaqus takes for its name (a deck's mesh)."""
+        return self._fold_set_names
 
     @property
     def node_sets(self) -> Mapping[str, np.ndarray]:
@@ -387,6 +401,7 @@ class Mesh(ReadOnlyState):
             (almost always a tolerance or coordinate mistake).
         """
         if isinstance(selection, str):
+            selection = set_named(self._node_sets, selection, self.fold_set_names)
             if selection not in self._node_sets:
                 raise ValueError(
                     f"unknown node set {selection!r}; known node sets: {sorted(self._node_sets)}"
@@ -457,7 +472,13 @@ class Mesh(ReadOnlyState):
         pts = validate_points(points)
         if len(pts) != self.n_nodes:
             raise ValueError(f"points must have {self.n_nodes} rows, got {len(pts)}")
-        return Mesh(pts, node_sets=self._node_sets, cells=self._cells, cell_sets=self._cell_sets)
+        return Mesh(
+            pts,
+            node_sets=self._node_sets,
+            cells=self._cells,
+            cell_sets=self._cell_sets,
+            fold_set_names=self.fold_set_names,
+        )
 
     # ----------------------------------------------------------------------------------------
     # Generators
@@ -671,7 +692,11 @@ class Mesh(ReadOnlyState):
         set). An element that MSH 2.2 repeats for each physical group of its
         entity is kept once. Keywords of an Abaqus deck the reader does not turn into the
         mesh (*BOUNDARY, *MATERIAL, *SHELL SECTION, *STEP, ...) are listed in one
-        UserWarning.
+        UserWarning. A deck is read by Abaqus's syntax: a set name in any case and without
+        its blanks is one set, named as the deck first writes it and found by any such
+        spelling (``fold_set_names``); a coordinate left out or blank is 0, SYSTEM=C nodes
+        (r, theta deg, z) are converted; data lines may stand in an INPUT= file; shells
+        (S3, S4 families) and two-node trusses and beams are read (femcore.inp_lines).
 
         Parameters
         ----------
@@ -693,11 +718,14 @@ class Mesh(ReadOnlyState):
             including itself again (naming the including file and line), an
             assembly of several *INSTANCE entries or a moved one, a set naming a set, a
             node or an element the deck does not define, a GENERATE line that is not
-            ``first, last[, increment]``, an element repeating a node (each naming the file
-            and the line: femcore.inp_sets), two gmsh physical groups of one name or one
-            whose name a set cannot take (naming the file and the groups), a mesh too
-            large for the memory available (femcore.memory), or any check of the
-            constructor (e.g. the same triangle twice; naming the file).
+            ``first, last[, increment]``, an element repeating a node, a rigid, surface,
+            membrane or continuum element type, an empty *ELEMENT block, SYSTEM=S, a keyword
+            that makes or moves nodes or elements (*NGEN, *ELGEN, *SYSTEM, ...), a line that
+            is not numbers (each naming the file and the line: femcore.inp_sets), two gmsh
+            physical groups of one name or one whose name a set cannot take (naming the
+            file and the groups), a mesh too large for the memory available
+            (femcore.memory), or any check of the constructor (e.g. the same triangle
+            twice; naming the file).
         """
         from femcore.mesh_io import read_mesh
 
@@ -706,7 +734,8 @@ class Mesh(ReadOnlyState):
     def write(self, path: str | Path, file_format: str | None = None) -> None:
         """Write the mesh through meshio; the format follows the suffix unless given.
 
-        .msh is written as ASCII gmsh 2.2. Sets are kept as NSET/ELSET in .inp and as 0/1
+        .msh is written as ASCII gmsh 2.2, .inp with triangles as S3 shells and lines as
+        T3D2 trusses. Sets are kept as NSET/ELSET in .inp and as 0/1
         mask arrays "nset:<name>" (point data), "elset:<name>" and "lset:<name>" (cell data;
         in general the mask prefix of the cell kind) elsewhere. Known losses: formats without
         point/cell data (e.g. .stl, .obj) drop all sets; .msh drops the cell sets of a mesh
@@ -724,7 +753,8 @@ class Mesh(ReadOnlyState):
         ------
         ValueError
             Unknown format, a mesh without cells, or (for .inp) a name used by the sets of
-            two cell kinds (e.g. both an element set and a line set).
+            two cell kinds (e.g. both an element set and a line set), or set names equal up
+            to case and blanks (one set for Abaqus).
         """
         from femcore.mesh_io import write_mesh
 

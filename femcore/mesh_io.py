@@ -23,6 +23,7 @@ from femcore.memory import check_mesh_memory
 from femcore.mesh import CELL_KINDS, Mesh
 from femcore.mesh_checks import sorted_unique
 from femcore.mesh_generators import split_quads
+from femcore.set_names import abaqus_key
 from femcore.writable import OutputError, check_folder
 
 __all__ = ["read_mesh", "write_mesh"]
@@ -80,13 +81,20 @@ def read_mesh(path: str | Path, file_format: str | None = None) -> Mesh:
             f"cannot read {path} as {fmt!r}: {type(err).__name__}: {err}{hint}"
         ) from err
     if own_sets is not None:  # meshio reads one block per *ELEMENT, as the scan does
-        raw.point_sets, raw.cell_sets = resolve_deck_sets(
-            own_sets, [block.data.shape[1] for block in raw.cells]
-        )
+        raw.point_sets, raw.cell_sets = resolve_deck_sets(own_sets)
     # Quads become two triangles each; the rest one cell each (vertex cells are dropped).
     n_cells = sum(len(block.data) * (2 if block.type == "quad" else 1) for block in raw.cells)
     check_mesh_memory(n_cells, len(raw.points), f"the mesh of {path}")
-    mesh = _mesh_from_meshio(raw, str(path))
+    mesh = _mesh_from_meshio(raw, str(path), fold_set_names=own_sets is not None)
+    if own_sets is not None and own_sets.normals_at:
+        warnings.warn(
+            f"{path}: {own_sets.where(own_sets.normals_at[0])} (and "
+            f"{len(own_sets.normals_at) - 1} more *NODE lines) gives the direction cosines "
+            "of a normal after the coordinates; the reader leaves them: a shell's normals "
+            "come from its elements (docs/theory.md)",
+            UserWarning,
+            stacklevel=3,
+        )
     if deck.ignored:
         warnings.warn(
             f"{path}: the mesh reader keeps the nodes, elements and node/element sets of an "
@@ -150,10 +158,31 @@ def write_mesh(mesh: Mesh, path: str | Path, file_format: str | None = None) -> 
     out = meshio.Mesh(mesh.points, meshio_blocks, **extra)
     try:
         meshio.write(path, out, file_format=fmt, **options)
+        if fmt == "abaqus":
+            _abaqus_element_types(path, kinds)
     except meshio.WriteError as err:
         raise ValueError(f"cannot write {path} as {fmt!r}: {err}") from err
     except OSError as err:
         raise OutputError.from_error(err, "nothing (the file may be incomplete)") from err
+
+
+# The Abaqus type a meshio cell type is written as: a shell or a truss (meshio 5.3 writes
+# R3D3, a rigid element, B31H, a beam, and CAX4P, an axisymmetric continuum, which Abaqus and
+# CalculiX would read as such).
+_ABAQUS_TYPES = {"triangle": "S3", "line": "T3D2", "quad": "S4"}
+
+
+def _abaqus_element_types(path: Path, kinds: list[str]) -> None:
+    """Rewrite the *ELEMENT lines meshio wrote at ``path`` with the types of _ABAQUS_TYPES
+    (meshio writes each block's keyword line as ``*ELEMENT, TYPE=<its type>`` alone)."""
+    text = path.read_text(encoding="utf-8")
+    for kind in dict.fromkeys(kinds):
+        name = CELL_KINDS[kind].meshio_name
+        written = meshio.abaqus._abaqus.meshio_to_abaqus_type[name]
+        text = text.replace(
+            f"\n*ELEMENT, TYPE={written}\n", f"\n*ELEMENT, TYPE={_ABAQUS_TYPES[name]}\n"
+        )
+    path.write_text(text, encoding="utf-8")
 
 
 def _native_sets(mesh: Mesh, kinds: list[str]) -> dict[str, Any]:
@@ -169,6 +198,18 @@ def _native_sets(mesh: Mesh, kinds: list[str]) -> dict[str, Any]:
                     f"{_article(CELL_KINDS[second].set_label)}; "
                     "an .inp file cannot keep both under one name"
                 )
+    # NSET and ELSET names are apart in Abaqus: each checked among its own.
+    clashes = []
+    for names in (list(mesh.node_sets), [n for k in CELL_KINDS for n in mesh.cell_sets(k)]):
+        spelled: dict[str, set[str]] = {}
+        for name in names:
+            spelled.setdefault(abaqus_key(name), set()).add(name)
+        clashes += sorted(sorted(group) for group in spelled.values() if len(group) > 1)
+    if clashes:
+        raise ValueError(
+            f"the set names {clashes[0]} differ in case or blanks only; Abaqus reads them as "
+            "one set (femcore.set_names): rename them before writing an .inp file"
+        )
     empty = np.zeros(0, dtype=np.int64)
     cell_sets = {}
     for kind in CELL_KINDS:
@@ -385,9 +426,10 @@ class _Blocks:
         return sorted_unique(ids if kept is None else kept[ids])
 
 
-def _mesh_from_meshio(raw: meshio.Mesh, source: str) -> Mesh:
+def _mesh_from_meshio(raw: meshio.Mesh, source: str, fold_set_names: bool = False) -> Mesh:
     """The Mesh of a meshio mesh: every block of every kind in file order (quads split in two
-    triangles), node ids those of meshio's points, and every named set."""
+    triangles), node ids those of meshio's points, and every named set (found by any spelling
+    Abaqus takes with ``fold_set_names``, for a deck's)."""
     raw = _split_quad_blocks(raw, _clean_cell_sets(raw, source))
     # Block kinds in our vocabulary ("vertex" and unknown meshio types keep their name).
     kind_of = _kind_of_meshio()
@@ -444,6 +486,7 @@ def _mesh_from_meshio(raw: meshio.Mesh, source: str) -> Mesh:
             node_sets=sets["node"],
             cells=blocks.connectivity,
             cell_sets={kind: sets[kind] for kind in CELL_KINDS},
+            fold_set_names=fold_set_names,
         )
     except ValueError as error:  # a degenerate cell, a set name .inp cannot hold: the file
         raise ValueError(f"{source}: {error}") from None

@@ -33,6 +33,7 @@ from femcore.loads import (
 from femcore.memory import small_pages
 from femcore.mesh import CELL_KINDS, Mesh, NodePredicate
 from femcore.mesh_checks import check_thickness_scale
+from femcore.set_names import set_named
 
 __all__ = ["BlockEntry", "CompiledModel", "Model", "NodeSelection"]
 
@@ -134,6 +135,7 @@ class Model:
             ids = np.arange(n_cells)
         elif isinstance(cells, str):
             sets = self.mesh.cell_sets(cell_type)
+            cells = set_named(sets, cells, self.mesh.fold_set_names)
             if cells not in sets:
                 raise ValueError(
                     f"no {cell_type} set named {cells!r}: the mesh has {sorted(sets) or 'none'}"
@@ -431,6 +433,7 @@ class Model:
             node_sets=mesh.node_sets,
             cells={kind: mesh.cells(kind) for kind in CELL_KINDS},
             cell_sets={kind: mesh.cell_sets(kind) for kind in CELL_KINDS},
+            fold_set_names=mesh.fold_set_names,
         )
         node = mesh.n_nodes
         self.rigid_nodes.append(RigidNode(node, None if mass is None else float(mass)))
@@ -463,6 +466,7 @@ class Model:
 
     def _node_ids(self, nodes) -> np.ndarray:
         if isinstance(nodes, str):
+            nodes = set_named(self.mesh.node_sets, nodes, self.mesh.fold_set_names)
             if nodes not in self.mesh.node_sets:
                 raise ValueError(
                     f"no node set named {nodes!r}: "

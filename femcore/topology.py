@@ -27,6 +27,7 @@ __all__ = [
     "Topology",
     "build_topology",
     "check_duplicate_nodes",
+    "opposed_neighbours",
     "check_orientation",
     "check_triangles",
     "check_zero_area",
@@ -348,6 +349,39 @@ def _check_orientation(tri: np.ndarray, groups: tuple, names: np.ndarray | None 
             f"triangles {t0} and {t1} have inconsistent orientation: both traverse "
             f"edge {start} -> {end} in the same direction"
         )
+
+
+def opposed_neighbours(triangles: ArrayLike) -> np.ndarray:
+    """The neighbours whose orientations disagree: pairs of triangles that share an edge of
+    theirs alone (a manifold edge) and traverse it the same way, so that their normals point
+    to opposite sides of the surface. An edge of three or more triangles is not judged.
+
+    Parameters
+    ----------
+    triangles : array_like of int, shape (m, 3)
+        Node ids per triangle.
+
+    Returns
+    -------
+    numpy.ndarray of int64, shape (p, 4)
+        Per opposed pair: the two triangles (the smaller id first), the start and end node
+        of the edge both traverse; (0, 4) when every manifold edge is traversed both ways.
+    """
+    tri = validate_cells(triangles, 3, "triangle")
+    directed = _directed_sides(tri).reshape(-1, 2)  # half-edge h = 3 t + s
+    if not len(directed):
+        return np.zeros((0, 4), dtype=np.int64)
+    base = int(tri.max()) + 1
+    keys = directed.min(axis=1) * base + directed.max(axis=1)
+    order = np.argsort(keys, kind="stable")
+    ordered = keys[order]
+    starts = np.flatnonzero(np.r_[True, ordered[1:] != ordered[:-1]])
+    counts = np.diff(np.r_[starts, len(keys)])
+    pairs = starts[counts == 2]
+    first, second = order[pairs], order[pairs + 1]
+    same = directed[first, 0] == directed[second, 0]
+    first, second = first[same], second[same]
+    return np.column_stack([first // 3, second // 3, directed[first]]).astype(np.int64)
 
 
 def _length_scale(points: np.ndarray) -> float:

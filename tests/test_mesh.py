@@ -439,9 +439,9 @@ def test_mixed_mesh_round_trip_keeps_element_and_line_sets(tmp_path, suffix):
 
 
 def test_read_pads_2d_points_and_ignores_vertex_cells(tmp_path):
-    path = tmp_path / "flat.inp"
+    path = tmp_path / "flat.inp"  # node lines without z: z = 0, as Abaqus reads them
     points_2d = np.array([[0.0, 0.0], [1.0, 0.0], [0.0, 1.0]])
-    meshio.write(path, meshio.Mesh(points_2d, [("triangle", np.array([[0, 1, 2]]))]))
+    path.write_text("*NODE\n1, 0., 0.\n2, 1., 0.\n3, 0., 1.\n*ELEMENT, TYPE=S3\n1, 1, 2, 3\n")
     back = Mesh.read(path)
     np.testing.assert_allclose(back.points, [[0, 0, 0], [1, 0, 0], [0, 1, 0]])
     path = tmp_path / "with_vertex.vtu"
