@@ -102,3 +102,27 @@ def test_the_shipped_strip_over_a_cylinder_relaxes_to_the_equilibrium_static_rea
     tip = relaxed.positions[case.mesh.nodes("tip")]
     np.testing.assert_allclose(tip[:, 0], reference["tip_x"], atol=0.3)
     np.testing.assert_allclose(tip[:, 2], reference["tip_z"], atol=0.3)
+
+
+@pytest.mark.parametrize("driven", [False, True], ids=["fixed", "driven"])
+def test_a_rigid_tool_s_clearance_is_each_node_s_gap_to_where_its_spring_starts(driven):
+    """The plate 0.3 mm above the die: each node's clearance is its gap to the contact
+    surface, 0.3 mm (to the contact's 1e-9 of the model's size); a force-driven die moves
+    too, so half of it, and the die's own node the least of them (its spring joins every
+    node's); inf at no node of the plate."""
+    model = plate_above_a_die(0.3, tool=False)
+    die = RigidPlane((0.0, 0.0, 0.0), (0.0, 0.0, 1.0))
+    if driven:
+        die = RigidPlane(
+            (0.0, 0.0, 0.0), (0.0, 0.0, 1.0), free="z", force=(0.0, 0.0, 1.0), mass=1e-3
+        )
+    model.contact(die)
+    compiled = model.compile()
+    state = compiled.initial_state()
+    clearance = compiled.interactions[0].clearance(state)
+    plate = np.arange(25)
+    share = 0.5 if driven else 1.0
+    np.testing.assert_allclose(clearance[plate], share * 0.3, rtol=0.0, atol=1e-7)
+    assert len(clearance) == compiled.n_nodes == 25 + driven
+    if driven:
+        assert clearance[25] == clearance[plate].min()
