@@ -747,6 +747,20 @@ class ContactBlock(InteractionBlock):
         on_tool = float(np.sum(k)) * (1.0 + 1.0 / r)
         return np.append(nodes, self.tool_node), np.append(k * (1.0 + r), on_tool)
 
+    def clearance(self, state: State, history: Any = None) -> np.ndarray:
+        """femcore.interaction: each node's gap to where its spring starts, mm (0 in a frozen
+        set); a driven tool moves too, so half the gap, its node the least (its spring joins
+        every node's). A node that has moved less than its gap does not touch: no stiffness."""
+        d, _ = self.tool.distance(self._positions(state), state.load_factor)
+        gap = d - self.surface_offset(history) - self.tolerance
+        if history is not None and history.active is not None:
+            gap = np.where(history.active, np.minimum(gap, 0.0), gap)
+        out = np.full(self.n_nodes, np.inf)
+        out[self.connectivity[:, 0]] = gap if self.tool_node is None else 0.5 * gap
+        if self.tool_node is not None:
+            out[self.tool_node] = 0.5 * float(gap.min(initial=np.inf))
+        return out
+
     def facet_record(self) -> FacetRecord | None:
         """femcore.interaction: the record of a meshed tool (``RigidSurface.facet_record``)
         with its facets' corners and normals; None for an analytic tool and for a smoothed

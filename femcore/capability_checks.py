@@ -155,7 +155,9 @@ def check_interaction_capabilities(
     * ``softened_penalty(SOFT_SHARE)`` yields a bool; the forces at ``state`` after it are
       those before to the last bit (restored), and those inside too where it yields False;
     * ``facet_record()`` None or a ``FacetRecord``: record (k, c) ints in [-1, f), corners
-      (f, 3, 3), normals (f, 3) of unit length (to 1e-12).
+      (f, 3, 3), normals (f, 3) of unit length (to 1e-12);
+    * ``clearance(state, history)`` None, or (n,) floats, none NaN, with springs
+      (``springs_at(state)`` not None) that the relaxation's masses take where it is small.
 
     Raises
     ------
@@ -206,6 +208,15 @@ def check_interaction_capabilities(
     facets = block.facet_record()
     if facets is not None:
         _check_facets(name, facets)
+    clearance = block.clearance(state, history)
+    if clearance is not None:
+        clearance = np.asarray(clearance)
+        if clearance.shape != (len(state.positions),) or np.isnan(clearance).any():
+            raise AssertionError(
+                f"{name}.clearance() gave shape {clearance.shape} or NaN: (n,) floats expected"
+            )
+        if block.springs_at(state) is None:
+            raise AssertionError(f"{name}.clearance() is given without springs (springs_at)")
 
 
 def _check_facets(name: str, facets: FacetRecord) -> None:

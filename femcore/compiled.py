@@ -387,6 +387,41 @@ class CompiledModel(CompiledTangent):
                 total += np.bincount(nodes, np.asarray(stiffness) / mass[nodes], len(mass))
         return float(total.max()) if len(total) else 0.0
 
+    def clearance_parts(self, state: State) -> list[int]:
+        """The indices into ``parts`` of the interactions that give a clearance at ``state``
+        (``InteractionBlock.clearance``; None: the others)."""
+        histories = self._interaction_histories(state)
+        blocks = len(self.blocks)
+        return [
+            blocks + i
+            for i, (interaction, history) in enumerate(zip(self.interactions, histories))
+            if interaction.clearance(state, history) is not None
+        ]
+
+    def reachable_springs(
+        self, state: State, reach: float, parts: list[int]
+    ) -> tuple[np.ndarray, np.ndarray]:
+        """The springs the interactions ``parts`` (``clearance_parts``) may put on the nodes
+        about to meet them: (springs (n,) N/mm, per node the sum over those interactions of
+        their ``springs_at(state)`` at it where its clearance is in (0, ``reach``] mm; watch
+        (n,) mm, the least clearance of a node farther off, inf where none). A node that
+        touches (clearance <= 0) has its stiffness in the interaction's tangent at ``state``,
+        and one farther off none until it has moved by its watch (``clearance``'s promise)."""
+        histories = self._histories(state)
+        springs = np.zeros(self.n_nodes)
+        watch = np.full(self.n_nodes, np.inf)
+        blocks = len(self.blocks)
+        for i in parts:
+            interaction = self.interactions[i - blocks]
+            clearance = np.asarray(interaction.clearance(state, histories[i]), dtype=float)
+            found = _springs_at(interaction, state, None, None)
+            if found is not None and len(found[0]):
+                nodes = np.asarray(found[0])
+                near = (clearance[nodes] > 0.0) & (clearance[nodes] <= reach)
+                springs += np.bincount(nodes[near], np.asarray(found[1])[near], self.n_nodes)
+            watch = np.minimum(watch, np.where(clearance > reach, clearance, np.inf))
+        return springs, watch
+
     def stable_dt(self, state: State) -> float:
         """Critical time step of the elements (s), the smallest over all cells (the
         interactions' springs come in through ``penalty_frequency_squared``)."""
@@ -587,7 +622,7 @@ def _off_block_nan(values: np.ndarray, nodes: np.ndarray) -> np.ndarray:
     return out
 
 
-def _springs_at(interaction: Any, state: State, step: float | None, mass: np.ndarray):
+def _springs_at(interaction: Any, state: State, step: float | None, mass: np.ndarray | None):
     """``interaction.springs_at(state, step)``, with ``mass=mass`` for an interaction that
     weighs its nodes by the masses the step divides by (elements/ply_springs.py, "Weights":
     the solver's, mass scaling included, not those it was calibrated with);

@@ -306,6 +306,20 @@ class InteractionBlock(ReadOnlyState, ABC):
         femcore/compiled.py)."""
         return self.springs()
 
+    def clearance(self, state: State, history: Any = None) -> np.ndarray | None:
+        """(n,) float, mm: how far each node is from where the interaction can stiffen it, for
+        a block whose stiffness switches on as nodes come to it (a contact), so that a
+        relaxation's fictitious masses carry its springs at the nodes about to meet it and
+        at no other (solvers/fictitious_masses.py; docs/theory.md §6.4a, "Contact"). The
+        promise: from ``state``, while every node whose clearance is above some c > 0 has
+        moved by less than its clearance (the others anyhow), the block puts no stiffness on
+        those nodes; the nodes that touch at ``state`` have clearance <= 0 (their stiffness
+        in ``tangent`` there), and the springs of ``springs_at(state)`` bound the block's
+        stiffness at any of its nodes (as ``springs``). inf where it never acts. None (the
+        default): the block's stiffness follows the configuration as an element's does, and
+        its tangent at ``state`` is what the masses take."""
+        return None
+
     def initial_history(self) -> Any:
         """History variables in the reference state (None: none)."""
         return None

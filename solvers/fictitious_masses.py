@@ -20,11 +20,23 @@ from femcore.rotation import nodal_frames
 from femcore.state import State
 from femcore.topology import nodal_normals
 
-__all__ = ["TURN", "GershgorinMasses", "NodeMass", "PhysicalMasses", "RelaxationMasses"]
+__all__ = [
+    "REACH_SHARE",
+    "TURN",
+    "GershgorinMasses",
+    "NodeMass",
+    "PhysicalMasses",
+    "RelaxationMasses",
+]
 
 #: Largest turn (rad) of a shell normal between two estimates of the fictitious masses; the
 #: normal mass carries TURN^2 of the in-plane one for the stiffness such a turn brings along.
 TURN = 0.03
+#: The reach of the interactions' springs in the fictitious masses, in element sizes L_e: a
+#: node this near a contact carries its spring, one farther off is watched (docs/theory.md
+#: §6.4a, "Contact"; 0.02 took the fewest iterations on the capstans of tests/test_capstan.py
+#: among 0.02, 0.05, 0.1, 0.2, 0.5 and 1).
+REACH_SHARE = 0.02
 
 
 class NodeMass:
@@ -62,6 +74,11 @@ class RelaxationMasses:
     def turned(self, state: State) -> float:
         """The largest turn (rad) of a surface normal since the last estimate."""
         return 0.0
+
+    def approached(self, state: State) -> bool:
+        """Whether a node has moved since the last estimate as far as its clearance to an
+        interaction whose springs its masses do not carry (``GershgorinMasses``)."""
+        return False
 
     def __init__(self) -> None:
         self.estimates = 0
@@ -101,8 +118,15 @@ class GershgorinMasses(RelaxationMasses):
         # ``own``: the blocks' own tangents at the start, where the caller has made them
         if own is None:
             own = model.own_tangents(model.initial_state())
+        # The interactions that say how far their nodes are from them (a contact): a node
+        # about to meet one carries its springs (docs/theory.md §6.4a, "Contact").
+        self.springy = model.clearance_parts(model.initial_state())
+        self.reach = REACH_SHARE * model.element_size
         self.own = list(own)
         self.others = [i for i in range(len(model.parts)) if i not in own]
+        self.watched = np.zeros(0, dtype=np.int64)  # nodes left without a spring they may meet
+        self.watch = np.zeros(0)  # mm, how far each may move before it may meet it
+        self.at = np.zeros((0, 3))  # mm, where they were at the estimate
         # The colouring loops over the nodes: once per solve.
         self.graph = model.node_graph(self.others) if self.others else None
         self.length = model.element_size
@@ -162,6 +186,13 @@ class GershgorinMasses(RelaxationMasses):
         # would blow up before the next estimate.
         mass[~local] = mass[~local].max(axis=1, initial=0.0)[:, None]
         mass[local, 2] += TURN**2 * mass[local, :2].max(axis=1)
+        if self.springy:
+            # A spring bounds its stiffness along any direction: the same on the three axes.
+            springs, watch = model.reachable_springs(state, self.reach, self.springy)
+            mass += np.where(dofs.free[:, :3], (self.scale * inflate) * springs[:, None], 0.0)
+            self.watched = np.flatnonzero(np.isfinite(watch))
+            self.watch = watch[self.watched]
+            self.at = state.positions[self.watched]
         self.local, self.normals = local, axes[local, :, 2]
         # One inertia per node, isotropic in the tangent plane: the angular velocity is a
         # vector there, and alpha and beta follow nodal frames that turn with the director.
@@ -178,6 +209,12 @@ class GershgorinMasses(RelaxationMasses):
         )
         inertia = _floor(inertia, turning, typical)
         return NodeMass(axes, mass), inertia, 1.0
+
+    def approached(self, state: State) -> bool:
+        if not len(self.watched):
+            return False
+        moved = np.linalg.norm(state.positions[self.watched] - self.at, axis=1)
+        return bool(np.any(moved >= self.watch))
 
     def turned(self, state: State) -> float:
         if not self.local.any():

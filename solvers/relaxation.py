@@ -104,8 +104,9 @@ class DynamicRelaxation:
         tangents, or coloured finite differences for a block without one. The masses are
         re-estimated at each increment start, at a kinetic-energy reset once ``refresh``
         iterations have passed (every ``refresh`` iterations with viscous damping), when a
-        surface normal has turned by 0.03 rad, and after a blow-up (from the last state at
-        rest, doubled if that state was already recovered once). "lumped": the physical
+        surface normal has turned by 0.03 rad or a node came to a contact (its clearance;
+        docs/theory.md §6.4a), after a blow-up (from the last state at rest, doubled if
+        that state was already recovered once). "lumped": the physical
         lumped masses and rotary inertia with ``safety`` x the stable step of the model; the
         iterations then grow like omega_max / omega_min of the physical model.
     safety : float in (0, 1]
@@ -581,10 +582,13 @@ class DynamicRelaxation:
             if masses.fictitious and (
                 (not kinetic_damping and iteration - estimated_at >= self.refresh)
                 or (iteration % _TURN_CHECK == 0 and masses.turned(state) > TURN)
+                or masses.approached(state)
             ):
-                # Viscous damping never stops the motion, and a surface that turned far
-                # brings its membrane stiffness onto its light normal axes: re-estimate on
-                # the way, the kinetic energy re-measured with the new masses (not a peak).
+                # Viscous damping never stops the motion, a surface that turned far brings
+                # its membrane stiffness onto its light normal axes, and a node that came to
+                # a contact whose spring its mass does not carry would meet it too light:
+                # re-estimate on the way, the kinetic energy re-measured with the new masses
+                # (not a peak).
                 mass, inertia, dt = masses(state, inflate)
                 inv_inertia = inverse_diagonal(inertia)
                 estimated_at = iteration
