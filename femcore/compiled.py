@@ -35,6 +35,7 @@ from femcore.diagnostics import interaction_notes, unheld_rigid_motions
 from femcore.dofs import DOF_NAMES, DofManager, dof_columns
 from femcore.driven_tools import DrivenTools
 from femcore.element import ElementBlock
+from femcore.frame_branches import check_frame_branches
 from femcore.interaction import Body, BodyPart, Interaction, InteractionBlock
 from femcore.memory import check_model_memory
 from femcore.mesh import CELL_KINDS
@@ -136,6 +137,8 @@ class CompiledModel(CompiledTangent):
                     "the directors declares defines_directors = True"
                 )
             self.reference_directors[self.has_rotation] = normals[self.has_rotation]
+            # a fixed alpha or beta must name one rotation along its set (docs/theory.md §1.2)
+            check_frame_branches(model.fixes, self.reference_directors, self.has_rotation)
 
         self.element_size = median_edge(mesh, cell_entries, self._cells)
         self.blocks: list[ElementBlock] = [
