@@ -119,10 +119,6 @@ class CompiledModel(CompiledTangent):
             )
             check_triangles(mesh.points, mesh.triangles[ids], names=ids)
 
-        fixed = fixed_mask(model.fixes, active)
-        prescribed, self._prescribed_terms = prescribed_terms(model.prescribed, active, fixed)
-        self.dofs = DofManager(n, active, fixed, prescribed)
-
         self.reference_positions = mesh.points.copy()
         self.reference_directors = np.zeros((n, 3))
         if self.has_rotation.any():
@@ -139,6 +135,11 @@ class CompiledModel(CompiledTangent):
             self.reference_directors[self.has_rotation] = normals[self.has_rotation]
             # a fixed alpha or beta must name one rotation along its set (docs/theory.md §1.2)
             check_frame_branches(model.fixes, self.reference_directors, self.has_rotation)
+
+        # a fix's ``tilt`` is alpha or beta at each node by its frame (docs/theory.md §1.2)
+        fixed = fixed_mask(model.fixes, active, self.reference_directors)
+        prescribed, self._prescribed_terms = prescribed_terms(model.prescribed, active, fixed)
+        self.dofs = DofManager(n, active, fixed, prescribed)
 
         self.element_size = median_edge(mesh, cell_entries, self._cells)
         self.blocks: list[ElementBlock] = [

@@ -9,6 +9,10 @@ is z, alpha turns the director out of the plane (towards z) on every node but th
 holds the wrong rotation at those nodes and frees the right one: the pinched cylinder's octant
 deflected 0.784 of its reference, 0.951 with the right DOF at each node. ``check_frame_branches``
 refuses such a fix when the model is compiled, naming the nodes and the DOF to fix there.
+
+``Model.fix(nodes, dofs, tilt="z")`` says what is meant instead of naming a DOF: hold the
+director's turn towards the global axis z (out of a symmetry plane z = const), which
+``tilt_columns`` resolves to alpha or beta at each node by its frame.
 """
 
 from __future__ import annotations
@@ -20,7 +24,7 @@ import numpy as np
 from femcore.entry_error import EntryError
 from femcore.rotation import FRAME_FALLBACK, nodal_frames
 
-__all__ = ["BRANCH_ANGLE_DEG", "check_frame_branches"]
+__all__ = ["BRANCH_ANGLE_DEG", "check_frame_branches", "tilt_columns"]
 
 #: Largest angle (deg) between the directions a fixed DOF turns the director at a node of the
 #: fallback frame and at its nearest node of the Eq. 7 frame in the same fix. Neighbours on a
@@ -109,3 +113,61 @@ def check_frame_branches(fixes: Sequence, directors: np.ndarray, has_rotation: n
             + " (femcore.rotation.nodal_frames gives each node's V1 and V2: alpha turns the "
             "director towards V1, beta towards -V2)",
         )
+
+
+def tilt_columns(
+    fix, index: int, active: np.ndarray, directors: np.ndarray | None
+) -> tuple[np.ndarray, np.ndarray]:
+    """The DOF that holds the director's turn towards the global axis ``fix.tilt`` at each
+    node of ``fix``: alpha (column 3) where V1 of the node's frame lies along the axis, beta
+    (column 4) where V2 does.
+
+    Parameters
+    ----------
+    fix : femcore.loads.Fix
+        With ``tilt`` 0, 1 or 2 (x, y, z).
+    index : int
+        The fix's index in the model's fixes (for the error).
+    active : numpy.ndarray, shape (n, 5) bool
+        The DOFs the elements give each node.
+    directors : numpy.ndarray, shape (n, 3), or None
+        The reference unit directors.
+
+    Returns
+    -------
+    nodes, columns : numpy.ndarray of int, shape (k,) each
+        The fix's nodes with rotations and the column held at each.
+
+    Raises
+    ------
+    EntryError
+        (a ValueError) for nodes without rotations, or whose frame turns the director
+        towards the axis by neither DOF (within BRANCH_ANGLE_DEG): a director more than that
+        from the plane normal to the axis, where no one DOF holds that turn.
+    """
+    axis = "xyz"[fix.tilt]
+    nodes = np.unique(fix.nodes)
+    lacking = nodes[~active[nodes, 3]]
+    if lacking.size or directors is None:
+        raise EntryError(
+            "fix",
+            index,
+            f"tilt = {axis!r} holds a director's turn, and nodes {lacking[:10].tolist()} have "
+            "no director (no rotational DOF)",
+        )
+    v1, v2 = nodal_frames(directors[nodes])
+    along_v1, along_v2 = np.abs(v1[:, fix.tilt]), np.abs(v2[:, fix.tilt])
+    least = np.cos(np.radians(BRANCH_ANGLE_DEG))
+    neither = np.maximum(along_v1, along_v2) < least
+    if neither.any():
+        bad = nodes[neither]
+        raise EntryError(
+            "fix",
+            index,
+            f"tilt = {axis!r}: at nodes {bad[:10].tolist()}{' ...' if bad.size > 10 else ''} "
+            f"neither alpha nor beta turns the director towards {axis} (the directors there "
+            f"lie more than {BRANCH_ANGLE_DEG:g} deg from the plane {axis} = const, e.g. "
+            f"{np.round(directors[bad[0]], 4).tolist()}): a symmetry plane's directors lie in "
+            "it; fix alpha and beta there to hold the director whole",
+        )
+    return nodes, np.where(along_v1 >= along_v2, 3, 4)

@@ -44,10 +44,11 @@ def octant_along_x():
     return model, load[0], 2
 
 
-def octant_along_z(per_node: bool):
-    """The same octant turned: axis z, the load at (0, R, L/2) along -y. ``per_node``: the
-    plane z = L/2 holds at each node the DOF that turns its director out of the plane, as
-    the refusal says; otherwise alpha along the whole plane."""
+def octant_along_z(hold: str):
+    """The same octant turned: axis z, the load at (0, R, L/2) along -y. ``hold``: how the
+    plane z = L/2 holds its directors' turn out of it: "alpha" along the whole plane,
+    "per node" each node's DOF that turns its director towards z (by its frame, as the
+    refusal says), "tilt" by Model.fix's ``tilt="z"``."""
     flat = Mesh.rectangle(LENGTH / 2, RADIUS * np.pi / 2, nx=CELLS, ny=CELLS)
     z, s = flat.points[:, 0], flat.points[:, 1] / RADIUS
     mesh = flat.with_points(np.column_stack([RADIUS * np.sin(s), RADIUS * np.cos(s), z]))
@@ -57,14 +58,16 @@ def octant_along_z(per_node: bool):
     model.fix("bottom", ["ux", "alpha"])  # the plane x = 0 (directors e2: the fallback frame)
     model.fix("top", ["uy", "beta"])  # the plane y = 0
     plane = mesh.nodes("right")  # z = L/2
-    model.fix(plane, ["uz"])
-    if per_node:
-        v1, v2 = nodal_frames(model.compile().reference_directors[plane])
+    if hold == "tilt":
+        model.fix(plane, ["uz"], tilt="z")
+    elif hold == "per node":
+        model.fix(plane, ["uz"])
+        v1, v2 = nodal_frames(nodal_normals(mesh.points, mesh.triangles)[plane])
         alpha = np.abs(v1[:, 2]) > np.abs(v2[:, 2])  # alpha turns V towards V1
         model.fix(plane[alpha], ["alpha"])
         model.fix(plane[~alpha], ["beta"])
     else:
-        model.fix(plane, ["alpha"])
+        model.fix(plane, ["uz", hold])
     load = mesh.nodes(lambda X, Y, Z: np.isclose(X, 0.0) & np.isclose(Z, LENGTH / 2))
     model.force(load, (0.0, -0.25, 0.0))
     return model, load[0], 1
@@ -76,7 +79,7 @@ def deflection(built):
 
 
 def test_alpha_along_a_plane_whose_frames_change_branch_is_refused():
-    model, _, _ = octant_along_z(per_node=False)
+    model, _, _ = octant_along_z("alpha")
     with pytest.raises(ValueError) as caught:
         model.compile()
     message = str(caught.value)
@@ -92,12 +95,40 @@ def test_alpha_along_a_plane_whose_frames_change_branch_is_refused():
     assert "docs/theory.md §1.2" in message
 
 
-def test_the_octant_along_z_deflects_as_the_octant_along_x_with_each_nodes_own_dof():
+@pytest.mark.parametrize("hold", ["per node", "tilt"])
+def test_the_octant_along_z_deflects_as_the_octant_along_x_when_each_node_holds_its_own(hold):
     # The same triangles turned: equal to rounding (1e-6 allows for the two Newton solves'
     # tolerance 1e-8 on the residual, not for a wrong support: the refused one gave -18 %).
     along_x = deflection(octant_along_x())  # compiles: alpha on x = L/2 names one rotation
-    along_z = deflection(octant_along_z(per_node=True))
+    along_z = deflection(octant_along_z(hold))
     assert along_z == pytest.approx(along_x, rel=1e-6)
     # MacNeal and Harder's 1.8248e-5 as the 16-cell octant reaches it (0.80, as
     # tests/test_mindlin.py measures 3-node shells): the support holds the right rotation
     assert along_x == pytest.approx(0.80 * 1.8248e-5, rel=0.03)
+
+
+def test_tilt_holds_the_turn_out_of_the_plane_by_alpha_or_beta_as_each_frame_has_it():
+    model, _, _ = octant_along_z("tilt")
+    compiled = model.compile()
+    plane = model.mesh.nodes("right")  # (CELLS, j), j = 0 .. CELLS: phi = 0 .. 90 deg
+    v1, v2 = nodal_frames(compiled.reference_directors[plane])
+    held = compiled.dofs.fixed[plane]
+    # within the plane (its ends are on the planes x = 0 and y = 0 too) one DOF at each node,
+    # the one whose turn (towards V1 for alpha, -V2 for beta) is along z
+    inner = slice(1, -1)
+    along = np.where(held[inner, 3], np.abs(v1[inner, 2]), np.abs(v2[inner, 2]))
+    assert (held[inner, 3] ^ held[inner, 4]).all() and np.allclose(along, 1.0)
+    # at phi = 0 the director is e2, the fallback frame: beta turns it towards z, alpha
+    # (held by the plane x = 0) out of that plane
+    assert held[0, 4] and abs(v2[0, 2]) == pytest.approx(1.0)
+
+
+def test_tilt_is_refused_where_the_directors_leave_its_plane_and_beside_alpha_or_beta():
+    model, _, _ = octant_along_z("tilt")
+    model.fix("top", [], tilt="x")  # the plane y = 0: its directors are e1, along x
+    with pytest.raises(ValueError, match="neither alpha nor beta turns the director towards x"):
+        model.compile()
+    with pytest.raises(ValueError, match="give the translations alone"):
+        model.fix("right", ["uz", "alpha"], tilt="z")
+    with pytest.raises(ValueError, match="tilt must be 'x', 'y' or 'z'"):
+        model.fix("right", ["uz"], tilt="w")
