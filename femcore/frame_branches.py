@@ -20,6 +20,7 @@ from __future__ import annotations
 from collections.abc import Sequence
 
 import numpy as np
+from scipy.spatial import cKDTree
 
 from femcore.entry_error import EntryError
 from femcore.rotation import FRAME_FALLBACK, nodal_frames
@@ -74,7 +75,11 @@ def check_frame_branches(fixes: Sequence, directors: np.ndarray, has_rotation: n
         turns = v1 if column == 3 else v2
         inside, outside = np.flatnonzero(fallback), np.flatnonzero(~fallback)
         # each fallback node's nearest Eq. 7 node of the set, by the angle of their directors
-        nearest = outside[np.argmax(np.abs(v[inside] @ v[outside].T), axis=1)]
+        # (the sign of a director aside: the nearer of V and -V; a tree, not an inside x
+        # outside table, which a large set would not fit in memory)
+        tree = cKDTree(np.concatenate([v[outside], -v[outside]]))
+        _, found = tree.query(v[inside])
+        nearest = outside[np.asarray(found) % outside.size]
         agree = np.abs(np.sum(turns[inside] * turns[nearest], axis=1))
         wrong = agree < np.cos(np.radians(BRANCH_ANGLE_DEG))
         if not wrong.any():
