@@ -13,6 +13,11 @@ refuses such a fix when the model is compiled, naming the nodes and the DOF to f
 ``Model.fix(nodes, dofs, tilt="z")`` says what is meant instead of naming a DOF: hold the
 director's turn towards the global axis z (out of a symmetry plane z = const), which
 ``tilt_columns`` resolves to alpha or beta at each node by its frame.
+
+Both read the reference directors. A director that turns across the cone during a run changes
+frame there, and a DOF fixed alone may then hold another rotation than it did:
+``changed_meaning`` finds those nodes at a state, and the solvers warn when they keep a frame
+with some (solvers.common.make_frame).
 """
 
 from __future__ import annotations
@@ -23,9 +28,9 @@ import numpy as np
 from scipy.spatial import cKDTree
 
 from femcore.entry_error import EntryError
-from femcore.rotation import FRAME_FALLBACK, nodal_frames
+from femcore.rotation import FRAME_FALLBACK, cross, nodal_frames
 
-__all__ = ["BRANCH_ANGLE_DEG", "check_frame_branches", "tilt_columns"]
+__all__ = ["BRANCH_ANGLE_DEG", "changed_meaning", "check_frame_branches", "tilt_columns"]
 
 #: Largest angle (deg) between the directions a fixed DOF turns the director at a node of the
 #: fallback frame and at its nearest node of the Eq. 7 frame in the same fix. Neighbours on a
@@ -176,3 +181,41 @@ def tilt_columns(
             "it; fix alpha and beta there to hold the director whole",
         )
     return nodes, np.where(along_v1 >= along_v2, 3, 4)
+
+
+def changed_meaning(
+    reference: np.ndarray, directors: np.ndarray, rotation_fixed: np.ndarray
+) -> np.ndarray:
+    """The nodes whose one fixed director DOF holds, at ``directors``, another rotation than
+    it did at ``reference``: their director crossed the cone of the frame's fallback, and the
+    two frames turn the director by that DOF more than BRANCH_ANGLE_DEG apart there.
+
+    Parameters
+    ----------
+    reference, directors : numpy.ndarray, shape (n, 3)
+        The reference and the current unit directors.
+    rotation_fixed : numpy.ndarray, shape (n, 2) bool
+        Alpha and beta fixed at each node (CompiledModel.rotation_fixed).
+
+    Returns
+    -------
+    numpy.ndarray of int, shape (k,)
+        The nodes, in order.
+    """
+    nodes = np.flatnonzero(rotation_fixed[:, 0] != rotation_fixed[:, 1])
+    if not nodes.size:
+        return nodes
+    was = np.hypot(reference[nodes, 0], reference[nodes, 2]) < FRAME_FALLBACK
+    now = np.hypot(directors[nodes, 0], directors[nodes, 2]) < FRAME_FALLBACK
+    nodes = nodes[was != now]
+    if not nodes.size:
+        return nodes
+    v = directors[nodes]
+    turns = []
+    for axis in (np.array([0.0, 1.0, 0.0]), np.array([0.0, 0.0, 1.0])):  # a = e2, a = e3
+        v1 = cross(axis, v)
+        v1 /= np.maximum(np.linalg.norm(v1, axis=1), 1e-300)[:, None]
+        # alpha turns V towards V1, beta towards -V2 = -(V x V1)
+        turns.append(np.where(rotation_fixed[nodes, :1], v1, cross(v, v1)))
+    agree = np.abs(np.sum(turns[0] * turns[1], axis=1))
+    return nodes[agree < np.cos(np.radians(BRANCH_ANGLE_DEG))]

@@ -11,6 +11,9 @@ the plane: fixing alpha along the plane held the wrong rotation there and the oc
 0.784 of the reference where the x octant gives 0.951 (32 cells).
 """
 
+import re
+import warnings
+
 import numpy as np
 import pytest
 
@@ -132,3 +135,42 @@ def test_tilt_is_refused_where_the_directors_leave_its_plane_and_beside_alpha_or
         model.fix("right", ["uz", "alpha"], tilt="z")
     with pytest.raises(ValueError, match="tilt must be 'x', 'y' or 'z'"):
         model.fix("right", ["uz"], tilt="w")
+
+
+def strip_facing_y():
+    """A 100 x 10 strip in the plane y = 0 (directors -e2: the fallback frame), clamped at
+    x = 0, alpha alone fixed at x = 100 (the turn towards V1 = e3 x V = e1 there)."""
+    flat = Mesh.rectangle(100.0, 10.0, nx=4, ny=1)
+    x, z = flat.points[:, 0], flat.points[:, 1]
+    mesh = flat.with_points(np.column_stack([x, np.zeros_like(x), z]))
+    model = Model(mesh)
+    model.add(section())
+    model.fix("left")
+    model.fix("right", ["alpha"])
+    return model.compile()
+
+
+def turned(directors, axis, degrees):
+    c, s = np.cos(np.radians(degrees)), np.sin(np.radians(degrees))
+    k = np.array(axis, float)
+    return directors * c + np.cross(k, directors) * s + np.outer(directors @ k, k) * (1 - c)
+
+
+def test_a_director_turned_out_of_the_cone_warns_where_its_one_fixed_dof_changed_meaning():
+    from dataclasses import replace
+
+    from solvers.common import make_frame
+
+    compiled = strip_facing_y()
+    state = compiled.initial_state()
+    right = compiled.mesh.nodes("right")
+    # 10 deg about z: out of the 5.7-deg cone; the Eq. 7 frame's alpha turns the director
+    # towards z there, the fallback's towards x, as at the start: another rotation
+    about_z = replace(state, directors=turned(state.directors, (0, 0, 1), 10.0))
+    with pytest.warns(UserWarning, match=re.escape(f"at nodes {right.tolist()} the director")):
+        make_frame(compiled, about_z)
+    # 10 deg about x: out of the cone too, but both frames' alpha turns it along x: no warning
+    about_x = replace(state, directors=turned(state.directors, (1, 0, 0), 10.0))
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        make_frame(compiled, about_x)
