@@ -35,6 +35,7 @@ from femcore.diagnostics import interaction_notes, unheld_rigid_motions
 from femcore.dofs import DOF_NAMES, DofManager, dof_columns
 from femcore.driven_tools import DrivenTools
 from femcore.element import ElementBlock
+from femcore.frame_branches import check_frame_branches
 from femcore.interaction import Body, BodyPart, Interaction, InteractionBlock
 from femcore.memory import check_model_memory
 from femcore.mesh import CELL_KINDS
@@ -118,10 +119,6 @@ class CompiledModel(CompiledTangent):
             )
             check_triangles(mesh.points, mesh.triangles[ids], names=ids)
 
-        fixed = fixed_mask(model.fixes, active)
-        prescribed, self._prescribed_terms = prescribed_terms(model.prescribed, active, fixed)
-        self.dofs = DofManager(n, active, fixed, prescribed)
-
         self.reference_positions = mesh.points.copy()
         self.reference_directors = np.zeros((n, 3))
         if self.has_rotation.any():
@@ -136,6 +133,13 @@ class CompiledModel(CompiledTangent):
                     "the directors declares defines_directors = True"
                 )
             self.reference_directors[self.has_rotation] = normals[self.has_rotation]
+            # a fixed alpha or beta must name one rotation along its set (docs/theory.md §1.2)
+            check_frame_branches(model.fixes, self.reference_directors, self.has_rotation)
+
+        # a fix's ``tilt`` is alpha or beta at each node by its frame (docs/theory.md §1.2)
+        fixed = fixed_mask(model.fixes, active, self.reference_directors)
+        prescribed, self._prescribed_terms = prescribed_terms(model.prescribed, active, fixed)
+        self.dofs = DofManager(n, active, fixed, prescribed)
 
         self.element_size = median_edge(mesh, cell_entries, self._cells)
         self.blocks: list[ElementBlock] = [

@@ -12,6 +12,7 @@ import numpy as np
 
 from femcore.dofs import DOF_NAMES, dof_names
 from femcore.entry_error import EntryError
+from femcore.frame_branches import tilt_columns
 from femcore.loads import Amplitude, Fix, NodalLoad, Prescribed
 
 if TYPE_CHECKING:
@@ -21,9 +22,12 @@ if TYPE_CHECKING:
 __all__ = ["evaluate", "fixed_mask", "load_terms", "moment_takers", "prescribed_terms"]
 
 
-def fixed_mask(fixes: list[Fix], active: np.ndarray) -> np.ndarray:
-    """The (n, 5) mask of the DOFs the fixes hold; ValueError for a fix of a DOF no element
-    gives its node."""
+def fixed_mask(
+    fixes: list[Fix], active: np.ndarray, directors: np.ndarray | None = None
+) -> np.ndarray:
+    """The (n, 5) mask of the DOFs the fixes hold, a fix's ``tilt`` resolved to alpha or beta
+    at each node from the reference ``directors`` (n, 3) (femcore.frame_branches
+    ``tilt_columns``); ValueError for a fix of a DOF no element gives its node."""
     fixed = np.zeros_like(active)
     for index, fix in enumerate(fixes):
         node_active = active[fix.nodes].any(axis=1)
@@ -34,6 +38,9 @@ def fixed_mask(fixes: list[Fix], active: np.ndarray) -> np.ndarray:
                 f"fix selects nodes {fix.nodes[:5].tolist()}... that no element "
                 "uses: they carry no DOF",
             )
+        if fix.tilt is not None:
+            turning, columns = tilt_columns(fix, index, active, directors)
+            fixed[turning, columns] = True
         nodes = fix.nodes[node_active]
         if fix.columns is None:
             fixed[nodes] |= active[nodes]

@@ -177,10 +177,15 @@ class Fix:
         Node ids.
     columns : numpy.ndarray of int, shape (d,), or None
         DOF columns (see femcore.dofs); None: every DOF the nodes carry.
+    tilt : int or None
+        The global axis (0, 1, 2 for x, y, z) towards which the director's turn is held too:
+        alpha or beta at each node, whichever its nodal frame turns the director along that
+        axis with (resolved when the model is compiled: femcore.frame_branches); None: none.
     """
 
     nodes: np.ndarray
     columns: np.ndarray | None  # None: every DOF the nodes carry
+    tilt: int | None = None
 
 
 @dataclass(frozen=True)

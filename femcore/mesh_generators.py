@@ -9,6 +9,15 @@ two triangles whose first local node is the corner where the warp (first grid di
 weft (second grid direction) meet: with 0-based local numbering, edge 0 -> 1 runs along the
 warp and edge 0 -> 2 along the weft, in the positive or negative sense ("node 1 at the right
 angle, 1 -> 2 along warp, 1 -> 3 along weft" in 1-based terms).
+
+``diagonals`` chooses the diagonal that splits each grid cell (docs/theory.md §5.3):
+"one-way" (the default) splits every cell along the same diagonal, from (i + 1, j) to
+(i, j + 1); "alternating" flips it on every other cell, a checkerboard, splitting those cells
+along (i, j) to (i + 1, j + 1) into (b, c, a) and (d, a, c) of the cell (a, b, c, d): still
+counter-clockwise and right-angled at local node 0, with edge 0 -> 1 along the weft there (the
+fibrous shell renumbers each triangle from its fibre corner at bind, docs/theory.md §1.5). The
+MITC3 triangle locks in two-way bending of thin plates on the one-way pattern and not on the
+alternating one; the fibrous shell's bending wants the one-way pattern (docs/theory.md §5.3).
 """
 
 from __future__ import annotations
@@ -26,6 +35,7 @@ from femcore.memory import check_mesh_memory
 from femcore.mesh import Mesh
 
 __all__ = [
+    "DIAGONALS",
     "corner",
     "from_quads",
     "grid_quads",
@@ -34,6 +44,9 @@ __all__ = [
     "rectangle",
     "split_quads",
 ]
+
+#: The diagonal patterns of the structured generators (the module's docstring).
+DIAGONALS = ("one-way", "alternating")
 
 # Relative tolerances of the quadrilateral corner checks (times the corner diameter).
 _PLANARITY_TOL = 1e-9
@@ -46,20 +59,22 @@ def rectangle(
     nx: int,
     ny: int,
     origin: ArrayLike = (0.0, 0.0, 0.0),
+    diagonals: str = "one-way",
 ) -> Mesh:
     """Fibre-aligned right-triangle mesh of an lx x ly rectangle (length units), nx x ny
-    grid cells: the implementation of :meth:`Mesh.rectangle`, which documents the numbering,
-    the sets and the errors."""
+    grid cells split along ``diagonals``: the implementation of :meth:`Mesh.rectangle`, which
+    documents the numbering, the sets and the errors."""
     lx = _positive_length(lx, "lx")
     ly = _positive_length(ly, "ly")
     nx = _positive_int(nx, "nx")
     ny = _positive_int(ny, "ny")
+    _check_diagonals(diagonals)
     base = _point3(origin, "origin")
     _check_grid_memory(f"Mesh.rectangle(nx={nx}, ny={ny})", nx, ny)
     # linspace hits the far edge exactly, unlike i * (lx / nx).
     x, y = np.meshgrid(np.linspace(0.0, lx, nx + 1), np.linspace(0.0, ly, ny + 1))
     points = base + np.column_stack((x.ravel(), y.ravel(), np.zeros(x.size)))
-    triangles = split_quads(grid_quads(nx, ny))
+    triangles = split_quads(grid_quads(nx, ny), _flipped(nx, ny, diagonals))
     return Mesh(
         points,
         triangles,
@@ -89,13 +104,15 @@ def line(p0: ArrayLike, p1: ArrayLike, n: int) -> Mesh:
     )
 
 
-def quadrilateral(corners: ArrayLike, nx: int, ny: int) -> Mesh:
+def quadrilateral(corners: ArrayLike, nx: int, ny: int, diagonals: str = "one-way") -> Mesh:
     """Fibre-aligned structured triangle mesh of a planar convex quadrilateral (corners
-    (4, 3) or (4, 2), length units) via gmsh: the implementation of
-    :meth:`Mesh.quadrilateral`, which documents the numbering, the sets and the errors."""
+    (4, 3) or (4, 2), length units) via gmsh, its cells split along ``diagonals``: the
+    implementation of :meth:`Mesh.quadrilateral`, which documents the numbering, the sets
+    and the errors."""
     quad, normal = _validate_quadrilateral(corners)
     nx = _positive_int(nx, "nx")
     ny = _positive_int(ny, "ny")
+    _check_diagonals(diagonals)
     _check_grid_memory(f"Mesh.quadrilateral(nx={nx}, ny={ny})", nx, ny)
     coords, quads = _gmsh_structured_quads(quad, nx, ny)
     if len(quads) != nx * ny:
@@ -104,7 +121,7 @@ def quadrilateral(corners: ArrayLike, nx: int, ny: int) -> Mesh:
     quads = _orient_quads(points, quads, normal)
     eta = (quads // (nx + 1)).min(axis=1) / ny + 0.5 / ny  # weft parameter of centroid
     warp = (1.0 - eta)[:, None] * (quad[1] - quad[0]) + eta[:, None] * (quad[2] - quad[3])
-    triangles = split_quads(_rotate_to_warp(points, quads, warp))
+    triangles = split_quads(_rotate_to_warp(points, quads, warp), _flipped(nx, ny, diagonals))
     return Mesh(
         points,
         triangles,
@@ -140,25 +157,31 @@ def from_quads(
     )
 
 
-def corner(lx: float, ly: float, n: int, grip: ArrayLike | None = None) -> Mesh:
+def corner(
+    lx: float, ly: float, n: int, grip: ArrayLike | None = None, diagonals: str = "one-way"
+) -> Mesh:
     """The corner specimen of Bai et al. (2020) §6 (Fig. 8): the free triangle of an lx x ly
     rectangle beyond its diagonal, cut from :func:`rectangle` with n x n cells (or, with
-    ``grip``, from the graded grid of :func:`_corner_grid`): the implementation of
-    :meth:`Mesh.corner`, which documents the result."""
+    ``grip``, from the graded grid of :func:`_corner_grid`), split along ``diagonals`` (the
+    cells on the clamp always along it): the implementation of :meth:`Mesh.corner`, which
+    documents the result."""
     lx = _positive_length(lx, "lx")
     ly = _positive_length(ly, "ly")
     n = _positive_int(n, "n")
+    _check_diagonals(diagonals)
     _check_grid_memory(f"Mesh.corner(n={n})", n, n)
+    # the checkerboard's phase that keeps the cells i + j = n - 1, cut by the clamp, one-way
+    flipped = _flipped(n, n, diagonals, phase=n - 1)
     if grip is None:
-        full = rectangle(lx, ly, nx=n, ny=n)
+        x, y = np.linspace(0.0, lx, n + 1), np.linspace(0.0, ly, n + 1)
     else:
         grip_x, grip_y = _grip_size(grip, lx, ly)
         x, y = _corner_grid(lx, ly, n, grip_x, grip_y)
-        gx, gy = np.meshgrid(x, y)
-        full = Mesh(
-            np.column_stack((gx.ravel(), gy.ravel(), np.zeros(gx.size))),
-            split_quads(grid_quads(n, n)),
-        )
+    gx, gy = np.meshgrid(x, y)
+    full = Mesh(
+        np.column_stack((gx.ravel(), gy.ravel(), np.zeros(gx.size))),
+        split_quads(grid_quads(n, n), flipped),
+    )
     p = full.points
     centroids = p[full.triangles].mean(axis=1)
     keep = centroids[:, 0] / lx + centroids[:, 1] / ly < 1.0
@@ -263,9 +286,32 @@ def grid_quads(nx: int, ny: int) -> np.ndarray:
     return np.column_stack((a, a + 1, a + nx + 2, a + nx + 1))
 
 
-def split_quads(quads: np.ndarray) -> np.ndarray:
-    """(2q, 3) triangles T_A = (a, b, d), T_B = (c, d, b) of quads (q, 4), interleaved."""
-    return np.stack((quads[:, [0, 1, 3]], quads[:, [2, 3, 1]]), axis=1).reshape(-1, 3)
+def split_quads(quads: np.ndarray, flipped: np.ndarray | None = None) -> np.ndarray:
+    """(2q, 3) triangles T_A = (a, b, d), T_B = (c, d, b) of quads (q, 4), interleaved; the
+    quads where ``flipped`` (q,) bool is True split along the other diagonal into (b, c, a)
+    and (d, a, c) (both keep the quad's sense and a right angle of a rectangle at node 0)."""
+    pattern = np.stack((quads[:, [0, 1, 3]], quads[:, [2, 3, 1]]), axis=1)
+    if flipped is not None and flipped.any():
+        pattern[flipped] = np.stack((quads[flipped][:, [1, 2, 0]], quads[flipped][:, [3, 0, 2]]), 1)
+    return pattern.reshape(-1, 3)
+
+
+def _check_diagonals(diagonals: Any) -> None:
+    if diagonals not in DIAGONALS:
+        raise ValueError(
+            f"diagonals must be one of {', '.join(repr(d) for d in DIAGONALS)}, got "
+            f'{diagonals!r} ("alternating": a checkerboard, which MITC3 needs for thin plates '
+            "in two-way bending, docs/theory.md §5.3)"
+        )
+
+
+def _flipped(nx: int, ny: int, diagonals: str, phase: int = 0) -> np.ndarray | None:
+    """(nx * ny,) bool: the grid cells (i, j) ("for j, for i") split along the other diagonal,
+    those with i + j + phase odd on the "alternating" pattern; None for "one-way"."""
+    if diagonals == "one-way":
+        return None
+    j, i = np.divmod(np.arange(nx * ny), nx)
+    return (i + j + phase) % 2 == 1
 
 
 def _grid_node_sets(nx: int, ny: int) -> dict[str, np.ndarray]:

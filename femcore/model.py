@@ -170,7 +170,12 @@ class Model:
         self._compiled = None
         return len(self.blocks) - 1
 
-    def fix(self, nodes: NodeSelection, dofs: str | Sequence[str] | None = None) -> None:
+    def fix(
+        self,
+        nodes: NodeSelection,
+        dofs: str | Sequence[str] | None = None,
+        tilt: str | None = None,
+    ) -> None:
         """Hold DOFs at zero.
 
         Parameters
@@ -179,15 +184,35 @@ class Model:
             A node-set name of the mesh, node ids, or a predicate ``(x, y, z) -> mask``.
         dofs : None, str or sequence of str
             None = every DOF of those nodes, or names such as "uz", ("ux", "uy", "uz"),
-            "alpha" (femcore.dofs.DOF_NAMES).
+            "alpha" (femcore.dofs.DOF_NAMES); with ``tilt``, an empty sequence: none more.
+        tilt : {"x", "y", "z"} or None
+            Also hold the director's turn towards that global axis: the out-of-plane turn
+            on a symmetry plane normal to it (``model.fix(plane, ["uz"], tilt="z")`` for
+            z = const). Alpha turns the director towards V1 of its nodal frame and beta
+            towards -V2, and which of them turns it towards the axis may change along a
+            plane (docs/theory.md §1.2); this picks it at each node when the model is
+            compiled, which refuses nodes where neither does (directors off the plane).
 
         Raises
         ------
         ValueError
-            For an unknown set, node id or DOF name.
+            For an unknown set, node id, DOF name or axis, or alpha or beta beside ``tilt``.
         """
-        columns = None if dofs is None else dof_columns(dofs)
-        self.fixes.append(Fix(self._node_ids(nodes), columns))
+        if tilt is None:
+            columns = None if dofs is None else dof_columns(dofs)
+            self.fixes.append(Fix(self._node_ids(nodes), columns))
+            self._compiled = None
+            return
+        if tilt not in ("x", "y", "z"):
+            raise ValueError(f"tilt must be 'x', 'y' or 'z' (a global axis), got {tilt!r}")
+        names = () if dofs is None else (dofs,) if isinstance(dofs, str) else tuple(dofs)
+        columns = dof_columns(names) if names else np.zeros(0, dtype=np.int64)
+        if dofs is None or np.isin(columns, (3, 4)).any():
+            raise ValueError(
+                f"tilt = {tilt!r} picks alpha or beta at each node: give the translations "
+                f"alone in dofs, got {dofs!r}"
+            )
+        self.fixes.append(Fix(self._node_ids(nodes), columns, "xyz".index(tilt)))
         self._compiled = None
 
     def displace(

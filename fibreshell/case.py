@@ -485,8 +485,8 @@ def _mesh(top: _Where, value: Any, folder: Path) -> Mesh:
             return Mesh.read(mesh_path)
         except ValueError as error:
             raise where.error("file", str(error)) from None
-    rect = _table(where, table["rectangle"], "rectangle", ("lx", "ly", "nx", "ny", "origin"),
-                  ("lx", "ly", "nx", "ny"))  # fmt: skip
+    keys = ("lx", "ly", "nx", "ny", "origin", "diagonals")
+    rect = _table(where, table["rectangle"], "rectangle", keys, ("lx", "ly", "nx", "ny"))
     inner = where.child("rectangle")
     for key in ("nx", "ny"):
         if isinstance(rect[key], bool) or not isinstance(rect[key], int) or rect[key] < 1:
@@ -495,7 +495,8 @@ def _mesh(top: _Where, value: Any, folder: Path) -> Mesh:
     lx, ly = _number(inner, rect["lx"], "lx"), _number(inner, rect["ly"], "ly")
     origin = _vector(inner, rect.get("origin", [0.0, 0.0, 0.0]), "origin")
     try:
-        return Mesh.rectangle(lx, ly, nx=rect["nx"], ny=rect["ny"], origin=origin)
+        diagonals = rect.get("diagonals", "one-way")  # "alternating": docs/theory.md §5.3
+        return Mesh.rectangle(lx, ly, rect["nx"], rect["ny"], origin, diagonals)
     except ValueError as error:
         raise inner.error(None, str(error)) from None
 
@@ -506,7 +507,8 @@ def _corner(where: _Where, value: Any) -> Mesh:
     (the free corner at the origin), and with ``grip = a`` or ``[a, b]`` (mm) the node set
     "grip" of the a x a (a x b) patch at the corner a gripper holds, on grid lines at every n;
     femcore.Mesh.corner."""
-    table = _table(where, value, "corner", ("lx", "ly", "n", "grip"), ("lx", "ly", "n"))
+    keys = ("lx", "ly", "n", "grip", "diagonals")
+    table = _table(where, value, "corner", keys, ("lx", "ly", "n"))
     inner = where.child("corner")
     if isinstance(table["n"], bool) or not isinstance(table["n"], int) or table["n"] < 2:
         raise inner.error("n", f"expected a whole number of cells >= 2, got {table['n']!r}")
@@ -516,7 +518,7 @@ def _corner(where: _Where, value: Any) -> Mesh:
         sizes = grip if isinstance(grip, list) and len(grip) == 2 else [grip]
         grip = tuple(_number(inner, size, "grip") for size in sizes)
     try:
-        return Mesh.corner(lx, ly, table["n"], grip)
+        return Mesh.corner(lx, ly, table["n"], grip, table.get("diagonals", "one-way"))
     except ValueError as error:
         raise inner.error(None, str(error)) from None
 

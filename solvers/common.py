@@ -5,14 +5,17 @@ from __future__ import annotations
 
 import os
 import sys
+import warnings
 from types import FrameType
 
 import numpy as np
 
 from femcore.checks import as_number, check_positive
 from femcore.diagnostics import unbalanced_translations, unbalanced_turns
+from femcore.frame_branches import changed_meaning
 from femcore.model import CompiledModel, Model
 from femcore.results import Frame, Result
+from femcore.rotation import FRAME_FALLBACK
 from femcore.state import State
 from solvers.progress import ProgressLine, resolve_progress
 
@@ -177,6 +180,7 @@ def make_frame(
     itself when None)."""
     n = model.n_nodes
     balanced = state if balanced is None else balanced
+    warn_changed_meaning(model, state)
     return Frame(
         time=float(state.time),
         load_factor=float(state.load_factor),
@@ -189,6 +193,25 @@ def make_frame(
         tool_forces=model.tool_forces(balanced),
         tool_displacements=model.tool_displacements(state),
     )
+
+
+def warn_changed_meaning(model: CompiledModel, state: State) -> None:
+    """Warn where a director DOF fixed alone holds, at ``state``, another rotation than at the
+    start (femcore.frame_branches.changed_meaning: a director that crossed the cone of the
+    nodal frame's fallback, docs/theory.md §1.2); once per message, as warnings do."""
+    if not model.rotation_fixed.any():
+        return
+    nodes = changed_meaning(model.reference_directors, state.directors, model.rotation_fixed)
+    if nodes.size:
+        warnings.warn(
+            f"at nodes {nodes[:10].tolist()}{' ...' if nodes.size > 10 else ''} the director "
+            f"turned across the cone within {np.degrees(np.arcsin(FRAME_FALLBACK)):.1f} deg "
+            "of +-e2 where the nodal frame changes (docs/theory.md §1.2), and the alpha or "
+            "beta fixed there alone now holds another rotation than at the start: the "
+            "support is no longer the one given; turn the model so that such a plane is "
+            "x = const or y = const, where one DOF names the turn out of it on both frames",
+            stacklevel=outside_stacklevel(),
+        )
 
 
 def empty_result(model: CompiledModel, frames: list[Frame]) -> Result:

@@ -141,6 +141,7 @@ def load_path(solver: Static, run: StaticRun, phase: int, jump: bool = False) ->
                     cuts_here,
                     f"increment {increment + phase * solver.increments}/{total}",
                     failure,
+                    trial,
                 )
                 step = 0.5 * (trial - run.reached)
                 continue

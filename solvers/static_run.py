@@ -40,6 +40,7 @@ from solvers.newton import Residual, Tangent, compression_free_ratio
 from solvers.newton_fibres import FibreEdges
 from solvers.newton_levels import LevelStrains
 from solvers.output import FrameStream
+from solvers.round_off import rounding_stop
 from solvers.stabilisation import Dashpots
 from solvers.stop_diagnosis import stop_hint
 
@@ -516,22 +517,34 @@ class StaticRun:
         if self.stream is not None:
             self.stream.write(frame)
 
-    def cut(self, cuts: int, what: str, failure: Exception) -> int:
+    def cut(self, cuts: int, what: str, failure: Exception, aim: float | None = None) -> int:
         """Count one more cut of an increment (``cuts`` so far), or raise the ConvergenceError
-        of ``failure`` when that makes more than the solver's max_cuts."""
+        of ``failure`` when that makes more than the solver's max_cuts; ``aim``: the load
+        factor the increment aimed at, where the stop may be the rounding's (``failure``)."""
         self.info["cuts"] += 1
         if cuts + 1 > self.solver.max_cuts:
-            raise self.failure(f"{what} did not converge after {cuts} cuts ({failure})") from None
+            reason = f"{what} did not converge after {cuts} cuts ({failure})"
+            raise self.failure(reason, aim) from None
         return cuts + 1
 
-    def failure(self, reason: str) -> ConvergenceError:
-        hint = stop_hint(
-            self.model,
-            self.state.positions,
-            self.solver.path,
-            at_start=len(self.frames) <= 1,
-            step_loads_first=self.solver.step_loads_first,
-        )
+    def failure(self, reason: str, aim: float | None = None) -> ConvergenceError:
+        """The ConvergenceError of a stop for ``reason``, with its cause where one is known:
+        at ``aim`` (the load factor the failed increment aimed at) the rounding of the
+        internal forces above what the solver can take for it (solvers.round_off
+        ``rounding_stop``: models without interactions or dashpots, as its floor), else
+        ``stop_hint``'s."""
+        hint = ""
+        if aim is not None and not self.model.interactions and self.dashpots is None:
+            frames = self.model.dofs.frames(self.balanced.directors)
+            hint = rounding_stop(self.equilibrium(aim), self.balanced, frames)
+        if not hint:
+            hint = stop_hint(
+                self.model,
+                self.state.positions,
+                self.solver.path,
+                at_start=len(self.frames) <= 1,
+                step_loads_first=self.solver.step_loads_first,
+            )
         error = ConvergenceError(
             f"static solver stopped at load factor {self.reached:.6g}: {reason}{hint}.", None
         )

@@ -79,3 +79,32 @@ def test_the_floor_holds_with_a_finite_difference_tangent_too():
     compliance = 100.0**3 / (3.0 * 1e4 * 10.0 / 12.0)
     tip = cantilever_tip(1e-10, tangent="finite_difference") / 1e-10
     assert tip == pytest.approx(-compliance, rel=5e-3)
+
+
+def test_a_stop_at_the_rounding_of_the_internal_forces_says_so_and_not_limit_point():
+    # MacNeal and Harder's thin twisted beam (Finite Elem. Anal. Des. 1 (1985) 3: L = 12,
+    # width 1.1, t = 0.0032, E = 29e6, nu = 0.22, a quarter turn, clamped root), its tip load
+    # scaled to 1e-9 (1.1e-10 a tip node): linear, yet a rigid translation changes the internal
+    # forces by a quarter of the load at a node (a residual ratio ~1.5e-4 from rounding alone,
+    # where the solver takes 1e-7), and Newton stays near 1.7e-3. The stop used to blame a
+    # limit point; it must name the rounding, its figures and the remedy. One cut and ten
+    # iterations stop it as the default eight cuts and fifty do (the ratio stays near 1.7e-3).
+    from solvers import ConvergenceError
+
+    length, width, load = 12.0, 1.1, 1e-9
+    flat = Mesh.rectangle(length, width, nx=48, ny=8, origin=(0.0, -width / 2, 0.0))
+    x, s = flat.points[:, 0], flat.points[:, 1]
+    turn = np.pi / 2 * x / length
+    model = Model(flat.with_points(np.column_stack([x, s * np.cos(turn), s * np.sin(turn)])))
+    model.add(MindlinShell(ElasticShell(E=29e6, nu=0.22, thickness=0.0032, density=1e-9)))
+    model.fix("left")
+    tip = flat.nodes("right")
+    model.force(tip, (0.0, 0.0, load / len(tip)))
+    with pytest.raises(ConvergenceError) as caught:
+        Static(increments=1, max_cuts=1, max_iterations=10).solve(model)
+    message = str(caught.value)
+    assert "the load is at the rounding of the internal forces" in message
+    # the largest nodal load of the increment that failed: the cut one, to load factor 1/2
+    assert f"the largest nodal load is {0.5 * load / len(tip):.2g} N" in message
+    assert "apply a larger load" in message and "units" in message
+    assert "limit point" not in message

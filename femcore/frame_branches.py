@@ -1,0 +1,221 @@
+"""A fixed alpha or beta must mean one rotation along its node set (docs/theory.md §1.2).
+
+The nodal frame of Bai Eq. 7 takes V1 from a = e2, and from a = e3 where the director lies
+within about 6 deg of +-e2 (``femcore.rotation.FRAME_FALLBACK``). Alpha turns the director
+towards V1, beta towards -V2. On a set of nodes whose directors straddle that cone the two
+frames can name different rotations by one name: on the plane z = L/2 of a cylinder whose axis
+is z, alpha turns the director out of the plane (towards z) on every node but those within
+6 deg of +-e2, where it turns the director within the plane. Fixing alpha along the plane then
+holds the wrong rotation at those nodes and frees the right one: the pinched cylinder's octant
+deflected 0.784 of its reference, 0.951 with the right DOF at each node. ``check_frame_branches``
+refuses such a fix when the model is compiled, naming the nodes and the DOF to fix there.
+
+``Model.fix(nodes, dofs, tilt="z")`` says what is meant instead of naming a DOF: hold the
+director's turn towards the global axis z (out of a symmetry plane z = const), which
+``tilt_columns`` resolves to alpha or beta at each node by its frame.
+
+Both read the reference directors. A director that turns across the cone during a run changes
+frame there, and a DOF fixed alone may then hold another rotation than it did:
+``changed_meaning`` finds those nodes at a state, and the solvers warn when they keep a frame
+with some (solvers.common.make_frame).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+
+import numpy as np
+from scipy.spatial import cKDTree
+
+from femcore.entry_error import EntryError
+from femcore.rotation import FRAME_FALLBACK, cross, nodal_frames
+
+__all__ = ["BRANCH_ANGLE_DEG", "changed_meaning", "check_frame_branches", "tilt_columns"]
+
+#: Largest angle (deg) between the directions a fixed DOF turns the director at a node of the
+#: fallback frame and at its nearest node of the Eq. 7 frame in the same fix. Neighbours on a
+#: smooth edge differ by their facet angle (a few degrees); where the two frames name
+#: different rotations they differ by up to 90 deg (the cylinder's plane above: 90).
+BRANCH_ANGLE_DEG = 30.0
+
+
+def check_frame_branches(fixes: Sequence, directors: np.ndarray, has_rotation: np.ndarray) -> None:
+    """Refuse a fix that holds alpha or beta alone on nodes whose frames name different
+    rotations by that DOF.
+
+    Parameters
+    ----------
+    fixes : sequence of femcore.model.Fix
+        The model's fixes (``nodes`` (k,) int, ``columns`` None or DOF columns).
+    directors : numpy.ndarray, shape (n, 3)
+        The reference unit directors (zero rows at nodes without rotations).
+    has_rotation : numpy.ndarray, shape (n,) bool
+        The nodes that carry alpha and beta.
+
+    Raises
+    ------
+    EntryError
+        (a ValueError) naming the fix, the nodes of the fallback frame where the held DOF
+        turns the director another way than at the fix's other nodes, and the DOF that holds
+        the same rotation there.
+    """
+    for index, fix in enumerate(fixes):
+        if fix.columns is None:
+            continue  # every DOF: the director is held whatever the frame
+        columns = set(np.asarray(fix.columns).tolist())
+        held = columns & {3, 4}
+        if len(held) != 1:
+            continue  # no rotation held, or both: the director is held whatever the frame
+        column = held.pop()
+        nodes = np.unique(fix.nodes[has_rotation[fix.nodes]])
+        if nodes.size < 2:
+            continue
+        v = directors[nodes]
+        fallback = np.hypot(v[:, 0], v[:, 2]) < FRAME_FALLBACK  # |e2 x V| < FRAME_FALLBACK
+        if fallback.all() or not fallback.any():
+            continue  # one frame along the set: one meaning
+        v1, v2 = nodal_frames(v)
+        # alpha turns V towards V1 (about V2), beta towards -V2 (about V1): the direction of
+        # the motion the fixed DOF holds, up to its sign
+        turns = v1 if column == 3 else v2
+        inside, outside = np.flatnonzero(fallback), np.flatnonzero(~fallback)
+        # each fallback node's nearest Eq. 7 node of the set, by the angle of their directors
+        # (the sign of a director aside: the nearer of V and -V; a tree, not an inside x
+        # outside table, which a large set would not fit in memory)
+        tree = cKDTree(np.concatenate([v[outside], -v[outside]]))
+        _, found = tree.query(v[inside])
+        nearest = outside[np.asarray(found) % outside.size]
+        agree = np.abs(np.sum(turns[inside] * turns[nearest], axis=1))
+        wrong = agree < np.cos(np.radians(BRANCH_ANGLE_DEG))
+        if not wrong.any():
+            continue
+        bad = inside[wrong]
+        want = turns[nearest[wrong]]
+        # the DOF of the fallback frame that holds the neighbours' rotation there, if one does
+        along_v1 = np.abs(np.sum(v1[bad] * want, axis=1))
+        along_v2 = np.abs(np.sum(v2[bad] * want, axis=1))
+        holds = np.maximum(along_v1, along_v2) >= np.cos(np.radians(BRANCH_ANGLE_DEG))
+        name = "alpha" if column == 3 else "beta"
+        other = "beta" if column == 3 else "alpha"
+        swap, neither = nodes[bad[holds]], nodes[bad[~holds]]
+        listed = f"{nodes[bad][:10].tolist()}{' ...' if bad.size > 10 else ''}"
+        remedy = []
+        if swap.size:
+            remedy.append(
+                f"fix {other} instead of {name} at nodes {swap[:10].tolist()}"
+                f"{' ...' if swap.size > 10 else ''}"
+            )
+        if neither.size:
+            remedy.append(
+                f"at nodes {neither[:10].tolist()}{' ...' if neither.size > 10 else ''} no "
+                "one DOF holds that rotation: fix both alpha and beta there, or neither"
+            )
+        raise EntryError(
+            "fix",
+            index,
+            f"{name} means another rotation at nodes {listed} than at the set's other nodes: "
+            f"their directors lie within {np.degrees(np.arcsin(FRAME_FALLBACK)):.1f} deg of "
+            f"+-e2, where the nodal frame takes a = e3 instead of e2 (docs/theory.md §1.2), "
+            f"so there {name} turns the director more than {BRANCH_ANGLE_DEG:g} deg away from "
+            f"the way it does at the nearest other node of the set (a symmetry plane z = "
+            f"const through directors near +-e2 is the usual case); "
+            + "; ".join(remedy)
+            + " (femcore.rotation.nodal_frames gives each node's V1 and V2: alpha turns the "
+            "director towards V1, beta towards -V2)",
+        )
+
+
+def tilt_columns(
+    fix, index: int, active: np.ndarray, directors: np.ndarray | None
+) -> tuple[np.ndarray, np.ndarray]:
+    """The DOF that holds the director's turn towards the global axis ``fix.tilt`` at each
+    node of ``fix``: alpha (column 3) where V1 of the node's frame lies along the axis, beta
+    (column 4) where V2 does.
+
+    Parameters
+    ----------
+    fix : femcore.loads.Fix
+        With ``tilt`` 0, 1 or 2 (x, y, z).
+    index : int
+        The fix's index in the model's fixes (for the error).
+    active : numpy.ndarray, shape (n, 5) bool
+        The DOFs the elements give each node.
+    directors : numpy.ndarray, shape (n, 3), or None
+        The reference unit directors.
+
+    Returns
+    -------
+    nodes, columns : numpy.ndarray of int, shape (k,) each
+        The fix's nodes with rotations and the column held at each.
+
+    Raises
+    ------
+    EntryError
+        (a ValueError) for nodes without rotations, or whose frame turns the director
+        towards the axis by neither DOF (within BRANCH_ANGLE_DEG): a director more than that
+        from the plane normal to the axis, where no one DOF holds that turn.
+    """
+    axis = "xyz"[fix.tilt]
+    nodes = np.unique(fix.nodes)
+    lacking = nodes[~active[nodes, 3]]
+    if lacking.size or directors is None:
+        raise EntryError(
+            "fix",
+            index,
+            f"tilt = {axis!r} holds a director's turn, and nodes {lacking[:10].tolist()} have "
+            "no director (no rotational DOF)",
+        )
+    v1, v2 = nodal_frames(directors[nodes])
+    along_v1, along_v2 = np.abs(v1[:, fix.tilt]), np.abs(v2[:, fix.tilt])
+    least = np.cos(np.radians(BRANCH_ANGLE_DEG))
+    neither = np.maximum(along_v1, along_v2) < least
+    if neither.any():
+        bad = nodes[neither]
+        raise EntryError(
+            "fix",
+            index,
+            f"tilt = {axis!r}: at nodes {bad[:10].tolist()}{' ...' if bad.size > 10 else ''} "
+            f"neither alpha nor beta turns the director towards {axis} (the directors there "
+            f"lie more than {BRANCH_ANGLE_DEG:g} deg from the plane {axis} = const, e.g. "
+            f"{np.round(directors[bad[0]], 4).tolist()}): a symmetry plane's directors lie in "
+            "it; fix alpha and beta there to hold the director whole",
+        )
+    return nodes, np.where(along_v1 >= along_v2, 3, 4)
+
+
+def changed_meaning(
+    reference: np.ndarray, directors: np.ndarray, rotation_fixed: np.ndarray
+) -> np.ndarray:
+    """The nodes whose one fixed director DOF holds, at ``directors``, another rotation than
+    it did at ``reference``: their director crossed the cone of the frame's fallback, and the
+    two frames turn the director by that DOF more than BRANCH_ANGLE_DEG apart there.
+
+    Parameters
+    ----------
+    reference, directors : numpy.ndarray, shape (n, 3)
+        The reference and the current unit directors.
+    rotation_fixed : numpy.ndarray, shape (n, 2) bool
+        Alpha and beta fixed at each node (CompiledModel.rotation_fixed).
+
+    Returns
+    -------
+    numpy.ndarray of int, shape (k,)
+        The nodes, in order.
+    """
+    nodes = np.flatnonzero(rotation_fixed[:, 0] != rotation_fixed[:, 1])
+    if not nodes.size:
+        return nodes
+    was = np.hypot(reference[nodes, 0], reference[nodes, 2]) < FRAME_FALLBACK
+    now = np.hypot(directors[nodes, 0], directors[nodes, 2]) < FRAME_FALLBACK
+    nodes = nodes[was != now]
+    if not nodes.size:
+        return nodes
+    v = directors[nodes]
+    turns = []
+    for axis in (np.array([0.0, 1.0, 0.0]), np.array([0.0, 0.0, 1.0])):  # a = e2, a = e3
+        v1 = cross(axis, v)
+        v1 /= np.maximum(np.linalg.norm(v1, axis=1), 1e-300)[:, None]
+        # alpha turns V towards V1, beta towards -V2 = -(V x V1)
+        turns.append(np.where(rotation_fixed[nodes, :1], v1, cross(v, v1)))
+    agree = np.abs(np.sum(turns[0] * turns[1], axis=1))
+    return nodes[agree < np.cos(np.radians(BRANCH_ANGLE_DEG))]
