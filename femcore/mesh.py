@@ -28,7 +28,6 @@ from dataclasses import dataclass
 from functools import cached_property
 from pathlib import Path
 from types import MappingProxyType
-from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -36,8 +35,10 @@ from numpy.typing import ArrayLike
 from femcore.mesh_checks import (
     add_set,
     as_mapping,
+    by_kind,
     check_coordinates,
     check_distinct_cells,
+    known_kind,
     read_only,
     select_by_predicate,
 )
@@ -160,11 +161,15 @@ class Mesh(ReadOnlyState):
         fold_set_names: bool = False,
     ) -> None:
         self._fold_set_names = bool(fold_set_names)
-        given_cells = _by_kind(
-            cells, "cells", {"triangle": triangles, "line": lines}, _LEGACY_CELLS
+        given_cells = by_kind(
+            CELL_KINDS, cells, "cells", {"triangle": triangles, "line": lines}, _LEGACY_CELLS
         )
-        given_sets = _by_kind(
-            cell_sets, "cell_sets", {"triangle": element_sets, "line": line_sets}, _LEGACY_SETS
+        given_sets = by_kind(
+            CELL_KINDS,
+            cell_sets,
+            "cell_sets",
+            {"triangle": element_sets, "line": line_sets},
+            _LEGACY_SETS,
         )
         self._points = read_only(validate_points(points))
         check_coordinates(self._points)
@@ -217,7 +222,7 @@ class Mesh(ReadOnlyState):
         ValueError
             Unknown cell kind.
         """
-        return self._cells[_known_kind(kind)]
+        return self._cells[known_kind(kind, CELL_KINDS)]
 
     def cell_sets(self, kind: str) -> Mapping[str, np.ndarray]:
         """Named sets of the cells of one kind.
@@ -238,7 +243,7 @@ class Mesh(ReadOnlyState):
         ValueError
             Unknown cell kind.
         """
-        return MappingProxyType(self._cell_sets[_known_kind(kind)])
+        return MappingProxyType(self._cell_sets[known_kind(kind, CELL_KINDS)])
 
     @property
     def triangles(self) -> np.ndarray:
@@ -337,7 +342,7 @@ class Mesh(ReadOnlyState):
             Unknown kind, invalid or already used name, ids out of range, or a mask of the
             wrong shape.
         """
-        kind = _known_kind(kind)
+        kind = known_kind(kind, CELL_KINDS)
         label = CELL_KINDS[kind].set_label
         add_set(self._cell_sets[kind], label, name, ids, len(self._cells[kind]), kind)
 
@@ -783,35 +788,3 @@ class Mesh(ReadOnlyState):
         from femcore.mesh_io import write_mesh
 
         write_mesh(self, path, file_format)
-
-
-# --------------------------------------------------------------------------------------------
-# Validation helpers
-# --------------------------------------------------------------------------------------------
-
-
-def _known_kind(kind: str) -> str:
-    if kind not in CELL_KINDS:
-        raise ValueError(f"unknown cell kind {kind!r}; known kinds: {list(CELL_KINDS)}")
-    return kind
-
-
-def _by_kind(
-    generic: Mapping[str, Any] | None,
-    what: str,
-    legacy: dict[str, Any],
-    legacy_names: dict[str, str],
-) -> dict[str, Any]:
-    """Merge a generic kind -> value mapping with the legacy per-kind arguments."""
-    merged = dict(as_mapping(generic, what))
-    for kind in merged:
-        _known_kind(kind)
-    for kind, value in legacy.items():
-        if value is None:
-            continue
-        if kind in merged:
-            raise ValueError(
-                f"{kind} data given twice: as {legacy_names[kind]} and in {what}[{kind!r}]"
-            )
-        merged[kind] = value
-    return merged

@@ -341,3 +341,33 @@ def check_thickness_scale(points: np.ndarray, cells: np.ndarray, thickness: floa
             UserWarning,
             stacklevel=4,
         )
+
+
+def known_kind(kind: str, kinds: Mapping[str, Any]) -> str:
+    """``kind`` if it is a key of ``kinds`` (femcore.mesh.CELL_KINDS), else a ValueError."""
+    if kind not in kinds:
+        raise ValueError(f"unknown cell kind {kind!r}; known kinds: {list(kinds)}")
+    return kind
+
+
+def by_kind(
+    kinds: Mapping[str, Any],
+    generic: Mapping[str, Any] | None,
+    what: str,
+    legacy: dict[str, Any],
+    legacy_names: dict[str, str],
+) -> dict[str, Any]:
+    """Merge a generic kind -> value mapping (keys of ``kinds``) with the legacy per-kind
+    arguments (a Mesh's ``triangles=``, ``lines=``...), refusing a kind given both ways."""
+    merged = dict(as_mapping(generic, what))
+    for kind in merged:
+        known_kind(kind, kinds)
+    for kind, value in legacy.items():
+        if value is None:
+            continue
+        if kind in merged:
+            raise ValueError(
+                f"{kind} data given twice: as {legacy_names[kind]} and in {what}[{kind!r}]"
+            )
+        merged[kind] = value
+    return merged
