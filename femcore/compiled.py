@@ -445,6 +445,16 @@ class CompiledModel(CompiledTangent):
             return np.zeros((0, 3))
         return np.concatenate([np.asarray(m, dtype=float).reshape(-1, 3) for m in moves])
 
+    def tool_penetrations(self, state: State, share: float) -> list[dict | None]:
+        """(n_tools,) how deep the body has gone into each rigid tool at ``state``, in the
+        order of ``tool_forces`` (femcore.interaction.InteractionBlock.tool_penetrations;
+        None for a tool its interaction does not measure)."""
+        histories = self._interaction_histories(state)
+        found: list[dict | None] = []
+        for interaction, history in zip(self.interactions, histories):
+            found.extend(interaction.tool_penetrations(state, history, share))
+        return found
+
     def tool_work(self, state: State, start: float, end: float) -> float:
         """Work (N mm) the moving tools do on the model while the load factor goes from
         ``start`` to ``end``, with the contact forces at ``state``."""

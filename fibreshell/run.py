@@ -650,6 +650,8 @@ def summarise(
     }
     if "quasi_static" in result.info:  # explicit runs: KE / W, mass and time scaling
         out["quasi_static"] = dict(result.info["quasi_static"])
+    if "tool_penetration" in result.info:  # how deep the body went into each tool
+        out["tool_penetration"] = result.info["tool_penetration"]
     if len(final.tool_forces):  # the force on each tool ([[contact]] order), N
         out["tool_forces"] = {f"tool{i}": f for i, f in enumerate(final.tool_forces, start=1)}
         moved = getattr(final, "tool_displacements", np.zeros((0, 3)))

@@ -61,6 +61,7 @@ from solvers.output import (
 from solvers.quasi_static import KINETIC_BOUND, kinetic_over_work, quasi_static_report
 from solvers.step import LumpedMasses, Step, explicit_step
 from solvers.tool_force_watch import ToolForceWatch
+from solvers.tool_penetration import record_tool_penetration
 
 __all__ = ["CentralDifference"]
 
@@ -687,6 +688,7 @@ class CentralDifference(StableStepRule):
             result.info["quasi_static"]["driven_tools"] = report
             if converged and self._kinetic_bound(compiled) is not None:
                 tools.warn(report)
+        record_tool_penetration(compiled, result, "CentralDifference", converged)
         result.energies["kinetic_over_work"] = kinetic_over_work(
             result.energies["kinetic"], result.energies["external_work"]
         )

@@ -42,6 +42,7 @@ from solvers.newton_levels import LevelStrains
 from solvers.output import FrameStream
 from solvers.stabilisation import Dashpots
 from solvers.stop_diagnosis import stop_hint
+from solvers.tool_penetration import record_tool_penetration
 
 if TYPE_CHECKING:
     from solvers.static import Static
@@ -561,4 +562,5 @@ class StaticRun:
             "numeric_factorisations": self.linear.numeric,
         }
         result.info = dict(self.info, tol=self.solver.tol)
+        record_tool_penetration(self.model, result, "Static", converged)
         return result
