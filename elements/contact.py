@@ -777,7 +777,10 @@ class ContactBlock(InteractionBlock):
                 "at": state.positions[nodes[deepest]].copy(),
                 "thickness_mm": 2.0 * float(offset[deepest]),
                 "pressed": int(np.count_nonzero(pressed)),
-                "past_share": int(np.count_nonzero(pressed & (depth > share * 2.0 * offset))),
+                # a body without thickness (a cable, offset 0) has no share to pass
+                "past_share": int(
+                    np.count_nonzero(pressed & (offset > 0.0) & (depth > share * 2.0 * offset))
+                ),
                 "force_N": float(np.sum(self.stiffness[pressed] * depth[pressed])),
                 "mean_mm": float(np.mean(depth[pressed])) if pressed.any() else 0.0,
             }

@@ -86,7 +86,7 @@ def tool_penetration_report(
         entry = dict(found)
         entry["share_of_thickness"] = found["deepest_mm"] / h if h > 0.0 else None
         entry["penalty"] = None
-        if found["past_share"] and found["mean_mm"] > 0.0:
+        if found["past_share"] and found["mean_mm"] > 0.0 and h > 0.0:
             # a uniform penalty k per node gives the pressed nodes a mean depth F / (n k);
             # the deepest lies deeper than the mean by their ratio, more as the body bends
             unevenness = max(1.0, found["deepest_mm"] / found["mean_mm"])
