@@ -756,6 +756,14 @@ class ContactBlock(InteractionBlock):
             return None
         return FacetRecord(tool.facet_record(), tool.corners, tool.normals)
 
+    def tool_facing(self, state: State, history: Any = None) -> list[np.ndarray | None]:
+        """femcore.interaction: the tool's normal at each contact node's closest point, n
+        towards the body (the normal force k p n pushes the node along it)."""
+        if self.connectivity.shape[0] == 0:
+            return [None]
+        _, n = self.tool.distance(self._positions(state), state.load_factor)
+        return [np.asarray(n, dtype=float)]
+
     def tool_penetrations(
         self, state: State, history: Any = None, share: float = 0.25
     ) -> list[dict | None]:

@@ -445,6 +445,16 @@ class CompiledModel(CompiledTangent):
             return np.zeros((0, 3))
         return np.concatenate([np.asarray(m, dtype=float).reshape(-1, 3) for m in moves])
 
+    def tool_facing(self, state: State) -> list[np.ndarray | None]:
+        """(n_tools,) per rigid tool the unit normals (s, 3) from it towards the nodes it may
+        touch at ``state``, in the order of ``tool_forces`` (femcore.interaction
+        ``InteractionBlock.tool_facing``; None where its interaction does not say)."""
+        histories = self._interaction_histories(state)
+        found: list[np.ndarray | None] = []
+        for interaction, history in zip(self.interactions, histories):
+            found.extend(interaction.tool_facing(state, history))
+        return found
+
     def tool_penetrations(self, state: State, share: float) -> list[dict | None]:
         """(n_tools,) how deep the body has gone into each rigid tool at ``state``, in the
         order of ``tool_forces`` (femcore.interaction.InteractionBlock.tool_penetrations;

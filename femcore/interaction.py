@@ -462,6 +462,13 @@ class InteractionBlock(ReadOnlyState, ABC):
         ``start`` to ``end``, with the forces at ``state``; 0 by default."""
         return 0.0
 
+    def tool_facing(self, state: State, history: Any = None) -> list[np.ndarray | None]:
+        """Per rigid tool of the block (``n_tools`` entries, ``tool_forces``' order) the unit
+        normals (s, 3) from the tool towards each node it may touch at ``state``: the way a
+        force-driven tool must be pushed to press the body (solvers/driven_tool_checks.py).
+        None for a tool the block does not say, every one by default."""
+        return [None] * self.n_tools
+
     def tool_penetrations(
         self, state: State, history: Any = None, share: float = 0.25
     ) -> list[dict | None]:

@@ -664,6 +664,12 @@ class CentralDifference(StableStepRule):
         result.wall_time = time.perf_counter() - started
         result.converged = converged
         result.energies = run.energy.arrays()
+        tools = getattr(run, "tools", None)
+        report, note = None, None
+        if tools is not None:  # a loose tool's kinetic energy is its own, not the body's
+            report = tools.report(run.state)
+            kinetic = float(result.energies["kinetic"][-1]) if len(result.energies["time"]) else 0.0
+            note = tools.kinetic_note(report, run.state, run.mass, kinetic)
         result.info = {
             "solver": "CentralDifference",
             "dt": run.dt_nominal,
@@ -680,11 +686,10 @@ class CentralDifference(StableStepRule):
                 run.added_mass / compiled.element_mass,
                 self.process_duration,
                 warn=converged,
+                tool_note=note,
             ),
         }
-        tools = getattr(run, "tools", None)
         if tools is not None:
-            report = tools.report()
             result.info["quasi_static"]["driven_tools"] = report
             if converged and self._kinetic_bound(compiled) is not None:
                 tools.warn(report)
