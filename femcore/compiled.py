@@ -387,6 +387,22 @@ class CompiledModel(CompiledTangent):
                 total += np.bincount(nodes, np.asarray(stiffness) / mass[nodes], len(mass))
         return float(total.max()) if len(total) else 0.0
 
+    def penalty_frequencies(
+        self, mass: np.ndarray, state: State, step: float | None = None
+    ) -> list[np.ndarray | None]:
+        """Per interaction the omega^2 (n,) (1/s^2) its penalty springs add at each node, as
+        ``penalty_frequency_squared`` sums them (None for one without springs): which
+        contacts hold a run's step (solvers/step_limits.py)."""
+        out: list[np.ndarray | None] = []
+        for interaction in self.interactions:
+            springs = _springs_at(interaction, state, step, mass)
+            if springs is None or not len(springs[0]):
+                out.append(None)
+                continue
+            nodes = np.asarray(springs[0])
+            out.append(np.bincount(nodes, np.asarray(springs[1]) / mass[nodes], len(mass)))
+        return out
+
     def stable_dt(self, state: State) -> float:
         """Critical time step of the elements (s), the smallest over all cells (the
         interactions' springs come in through ``penalty_frequency_squared``)."""

@@ -60,6 +60,7 @@ from solvers.output import (
 )
 from solvers.quasi_static import KINETIC_BOUND, kinetic_over_work, quasi_static_report
 from solvers.step import LumpedMasses, Step, explicit_step
+from solvers.step_limits import step_limits, warn_step_short
 from solvers.tool_force_watch import ToolForceWatch
 from solvers.tool_penetration import record_tool_penetration
 
@@ -565,6 +566,10 @@ class CentralDifference(StableStepRule):
         duration = self.duration
         added_mass = float(mass.sum() - compiled.mass0.sum())
         refuse_up_front(self, compiled, added_mass, dt_nominal)
+        limits = None
+        if self.mass_scaling_dt is not None:  # what holds the step below the scaling's aim
+            limits = step_limits(compiled, state, scale, mass, self, dt_nominal)
+            warn_step_short(limits)
         run = _Run(
             state=state,
             scale=scale,
@@ -578,6 +583,7 @@ class CentralDifference(StableStepRule):
             strain_at_start=compiled.strain_energy(state),
             good=(state, None, None),
             tools=ToolForceWatch(compiled, duration) if len(compiled.driven_tools) else None,
+            step_limits=limits,
         )
         self._summarise(run, run.frames[0])
         return run
@@ -678,6 +684,7 @@ class CentralDifference(StableStepRule):
             "damping": self.damping,
             "energy_balance_error": run.worst,
             "energy_growth": run.grown,
+            "step_limits": getattr(run, "step_limits", None),
             "wall_time_before_resume": getattr(run, "wall_before", 0.0),
             "quasi_static": quasi_static_report(
                 result.energies,
@@ -762,6 +769,7 @@ class _Run:
     tools: ToolForceWatch | None = None  # the force-driven tools' forces over the last half
     wall_time: float = 0.0  # s, the run's wall time up to its last checkpoint
     wall_before: float = 0.0  # s, the wall time of the parts before the resume (0: none)
+    step_limits: dict | None = None  # with mass scaling: the step's bounds at the start
 
 
 def _roundoff(compiled: CompiledModel, run: _Run, dt: float) -> float:
