@@ -39,8 +39,9 @@ def check_driven_tools_face_body(model: CompiledModel, solver: str = "Static") -
         force = loads[k]
         if not np.any(force):
             continue  # no force: held by its contacts alone, or a weightless mass
-        normals = [facing[row] for row in rows]
-        if any(n is None or len(n) == 0 for n in normals):
+        given = [facing[row] for row in rows]
+        normals = [np.asarray(n) for n in given if n is not None and len(n)]
+        if len(normals) < len(given):
             continue  # a tool whose side its interaction does not say: not judged
         along = np.concatenate([np.asarray(n) @ force for n in normals])
         if along.max() > 0.0:
