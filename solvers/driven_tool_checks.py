@@ -1,12 +1,13 @@
 """Whether each force-driven tool's force points towards the body it is to press, checked
-before a quasi-static solve (docs/theory.md §9.5).
+before a quasi-static solve (Static, DynamicRelaxation: solvers/common.py ``check_held``;
+docs/theory.md §9.5).
 
-A force-driven tool (a blank holder) stands, in Static, where its prescribed force equals its
-contact forces. The contact pushes the tool only away from the body (its normal force on a
-node is k p n, n the tool's normal towards the body, and the node pushes the tool back along
--n): a force whose component along every such normal is not positive is never balanced, the
-tool flies off, and the solve stops on a singular tangent that does not name it. The tool's
-normals towards the nodes it may touch come from its interaction
+A force-driven tool (a blank holder) stands, in a quasi-static solve, where its prescribed
+force equals its contact forces. The contact pushes the tool only away from the body (its
+normal force on a node is k p n, n the tool's normal towards the body, and the node pushes
+the tool back along -n): a force whose component along every such normal is not positive is
+never balanced, the tool flies off, and the solve stops on a singular tangent that does not
+name it. The tool's normals towards the nodes it may touch come from its interaction
 (``InteractionBlock.tool_facing``), the force from the model's loads on its node at the end
 of the load path (its weight with it).
 """
@@ -24,7 +25,7 @@ def _vector(v: np.ndarray) -> str:
     return "(" + ", ".join(f"{c:.4g}" for c in v) + ")"
 
 
-def check_driven_tools_face_body(model: CompiledModel, solver: str = "Static") -> None:
+def check_driven_tools_face_body(model: CompiledModel) -> None:
     """Raise ValueError when a force-driven tool's force (along its free axes, at load factor
     1) points away from every node it may touch: its component along each normal from the
     tool towards them is <= 0. The message names the tool, its force and the way to the
@@ -52,7 +53,8 @@ def check_driven_tools_face_body(model: CompiledModel, solver: str = "Static") -
         raise ValueError(
             f"{names[k]}'s force {_vector(force)} N points away from the body{way}: a "
             "force-driven tool presses the body only with a force towards it, and this one "
-            f"would leave it, where {solver} finds no position at which the contact forces "
-            "balance it. Give the force towards the body (its sign turned, "
+            "would leave it, where a quasi-static solver (Static, DynamicRelaxation) finds no "
+            "position at which the contact forces balance it. Give the force towards the body "
+            "(its sign turned, "
             f"{_vector(-force + 0.0)} N, for a tool whose face looks straight at the body)"
         )

@@ -55,7 +55,6 @@ from solvers.common import (
     check_tolerance,
     compiled_model,
 )
-from solvers.driven_tool_checks import check_driven_tools_face_body
 from solvers.interrupts import check_outputs, keeps_writes
 from solvers.load_path import LOAD_DEFAULTS, check_load_options, load_path
 from solvers.output import output_path
@@ -402,7 +401,6 @@ class Static:
 
     def _solve(self, model: Model | CompiledModel) -> Result:
         compiled = compiled_model(model, "Static")
-        check_driven_tools_face_body(compiled)
         check_held(compiled)
         check_outputs(compiled.mesh, self.output)
         # The tangent and its factorisation dwarf the model: refuse what cannot fit, up front.

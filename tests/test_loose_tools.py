@@ -13,7 +13,7 @@ import warnings
 import numpy as np
 import pytest
 
-from solvers import CentralDifference, Static
+from solvers import CentralDifference, DynamicRelaxation, Static
 from tests.test_force_driven_tools import held_plate_and_holder, mindlin, pressed_plate
 
 FORCE, MASS, DURATION = 1.0, 1e-3, 0.01  # N, t, s: 0.05 mm of travel
@@ -53,13 +53,15 @@ def test_a_holder_pressed_onto_the_plate_is_not_said_to_be_loose():
     assert run.info["quasi_static"]["driven_tools"][0]["force_min"][0] < 0.0  # pressing down
 
 
-def test_static_refuses_a_holder_force_away_from_the_plate_before_solving():
+@pytest.mark.parametrize("solver", [Static(increments=2), DynamicRelaxation(increments=2)],
+                         ids=["static", "relaxation"])  # fmt: skip
+def test_a_quasi_static_solver_refuses_a_holder_force_away_from_the_plate_up_front(solver):
     """F = 50 N up on the holder over the plate: a ValueError naming the tool, its force and
     the way to the body, before any increment."""
     model = pressed_plate(mindlin(), 1.0, -50.0)
     with pytest.raises(ValueError, match=r"tool2's force \(0, 0, 50\) N points away from the "
                        r"body \(the body lies along \(0, 0, -1\) from it\)"):  # fmt: skip
-        Static(increments=2).solve(model)
+        solver.solve(model)
 
 
 def test_static_takes_a_holder_force_towards_the_plate_across_a_gap():
