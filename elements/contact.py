@@ -770,6 +770,44 @@ class ContactBlock(InteractionBlock):
             return None
         return FacetRecord(tool.facet_record(), tool.corners, tool.normals)
 
+    def tool_facing(self, state: State, history: Any = None) -> list[np.ndarray | None]:
+        """femcore.interaction: the tool's normal at each contact node's closest point, n
+        towards the body (the normal force k p n pushes the node along it)."""
+        if self.connectivity.shape[0] == 0:
+            return [None]
+        _, n = self.tool.distance(self._positions(state), state.load_factor)
+        return [np.asarray(n, dtype=float)]
+
+    def tool_penetrations(
+        self, state: State, history: Any = None, share: float = 0.25
+    ) -> list[dict | None]:
+        """femcore.interaction: the depth of the body's contact surface (the mid-surface
+        offset by h / 2) into the tool, h / 2 - d at each node, its deepest and the nodes
+        past ``share`` h; the penalty springs' normal force over the pressed nodes."""
+        nodes = self.connectivity[:, 0]
+        if nodes.size == 0:
+            return [None]
+        d, _ = self.tool.distance(self._positions(state), state.load_factor)
+        offset = np.broadcast_to(np.asarray(self.offset, dtype=float), d.shape)
+        depth = offset - d
+        deepest = int(np.argmax(depth))
+        pressed = depth > 0.0
+        return [
+            {
+                "deepest_mm": max(float(depth[deepest]), 0.0),
+                "node": int(nodes[deepest]),
+                "at": state.positions[nodes[deepest]].copy(),
+                "thickness_mm": 2.0 * float(offset[deepest]),
+                "pressed": int(np.count_nonzero(pressed)),
+                # a body without thickness (a cable, offset 0) has no share to pass
+                "past_share": int(
+                    np.count_nonzero(pressed & (offset > 0.0) & (depth > share * 2.0 * offset))
+                ),
+                "force_N": float(np.sum(self.stiffness[pressed] * depth[pressed])),
+                "mean_mm": float(np.mean(depth[pressed])) if pressed.any() else 0.0,
+            }
+        ]
+
     def node_fields(self, state: State, history: Any = None) -> dict[str, np.ndarray]:
         """contact_gap (mm, < 0 a penetration, NaN off the node set), contact_force (the normal
         force, N), contact_pressure (that force over the node's share of the area, N/mm^2;

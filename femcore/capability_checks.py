@@ -157,7 +157,10 @@ def check_interaction_capabilities(
     * ``facet_record()`` None or a ``FacetRecord``: record (k, c) ints in [-1, f), corners
       (f, 3, 3), normals (f, 3) of unit length (to 1e-12);
     * ``clearance(state, history)`` None, or (n,) floats, none NaN, with springs
-      (``springs_at(state)`` not None) that the relaxation's masses take where it is small.
+      (``springs_at(state)`` not None) that the relaxation's masses take where it is small;
+    * ``tool_penetrations(state, history)`` and ``tool_facing(state, history)`` one entry per
+      tool (``n_tools``), each None or, for the first, a dict whose ``deepest_mm`` is finite
+      and >= 0, for the second (s, 3) normals of unit length (to 1e-9).
 
     Raises
     ------
@@ -217,6 +220,41 @@ def check_interaction_capabilities(
             )
         if block.springs_at(state) is None:
             raise AssertionError(f"{name}.clearance() is given without springs (springs_at)")
+    _check_tool_reports(name, block, state, history)
+
+
+def _check_tool_reports(name: str, block: InteractionBlock, state: State, history: Any) -> None:
+    """``tool_penetrations`` and ``tool_facing``: one entry per tool, each None or sound
+    (what solvers/tool_penetration.py and solvers/driven_tool_checks.py read)."""
+    tools = int(block.n_tools)
+    depths = block.tool_penetrations(state, history, 0.25)
+    if len(depths) != tools:
+        raise AssertionError(
+            f"{name}.tool_penetrations gave {len(depths)} entries: {tools} expected"
+        )
+    for entry in depths:
+        if entry is not None and not (
+            np.isfinite(entry.get("deepest_mm", np.nan)) and entry["deepest_mm"] >= 0.0
+        ):
+            raise AssertionError(
+                f"{name}.tool_penetrations gave deepest_mm {entry.get('deepest_mm')!r}: a "
+                "finite depth >= 0 (mm) expected"
+            )
+    facing = block.tool_facing(state, history)
+    if len(facing) != tools:
+        raise AssertionError(f"{name}.tool_facing gave {len(facing)} entries: {tools} expected")
+    for normals in facing:
+        if normals is None:
+            continue
+        normals = np.asarray(normals, dtype=float)
+        if (
+            normals.ndim != 2
+            or normals.shape[1] != 3
+            or not np.allclose(np.linalg.norm(normals, axis=1), 1.0, rtol=0.0, atol=1e-9)
+        ):
+            raise AssertionError(
+                f"{name}.tool_facing gave normals that are not (s, 3) unit vectors"
+            )
 
 
 def _check_facets(name: str, facets: FacetRecord) -> None:

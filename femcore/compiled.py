@@ -426,6 +426,22 @@ class CompiledModel(CompiledTangent):
             watch = np.minimum(watch, np.where(clearance > reach, clearance, np.inf))
         return springs, watch
 
+    def penalty_frequencies(
+        self, mass: np.ndarray, state: State, step: float | None = None
+    ) -> list[np.ndarray | None]:
+        """Per interaction the omega^2 (n,) (1/s^2) its penalty springs add at each node, as
+        ``penalty_frequency_squared`` sums them (None for one without springs): which
+        contacts hold a run's step (solvers/step_limits.py)."""
+        out: list[np.ndarray | None] = []
+        for interaction in self.interactions:
+            springs = _springs_at(interaction, state, step, mass)
+            if springs is None or not len(springs[0]):
+                out.append(None)
+                continue
+            nodes = np.asarray(springs[0])
+            out.append(np.bincount(nodes, np.asarray(springs[1]) / mass[nodes], len(mass)))
+        return out
+
     def stable_dt(self, state: State) -> float:
         """Critical time step of the elements (s), the smallest over all cells (the
         interactions' springs come in through ``penalty_frequency_squared``)."""
@@ -483,6 +499,26 @@ class CompiledModel(CompiledTangent):
         if not moves:
             return np.zeros((0, 3))
         return np.concatenate([np.asarray(m, dtype=float).reshape(-1, 3) for m in moves])
+
+    def tool_facing(self, state: State) -> list[np.ndarray | None]:
+        """(n_tools,) per rigid tool the unit normals (s, 3) from it towards the nodes it may
+        touch at ``state``, in the order of ``tool_forces`` (femcore.interaction
+        ``InteractionBlock.tool_facing``; None where its interaction does not say)."""
+        histories = self._interaction_histories(state)
+        found: list[np.ndarray | None] = []
+        for interaction, history in zip(self.interactions, histories):
+            found.extend(interaction.tool_facing(state, history))
+        return found
+
+    def tool_penetrations(self, state: State, share: float) -> list[dict | None]:
+        """(n_tools,) how deep the body has gone into each rigid tool at ``state``, in the
+        order of ``tool_forces`` (femcore.interaction.InteractionBlock.tool_penetrations;
+        None for a tool its interaction does not measure)."""
+        histories = self._interaction_histories(state)
+        found: list[dict | None] = []
+        for interaction, history in zip(self.interactions, histories):
+            found.extend(interaction.tool_penetrations(state, history, share))
+        return found
 
     def tool_work(self, state: State, start: float, end: float) -> float:
         """Work (N mm) the moving tools do on the model while the load factor goes from

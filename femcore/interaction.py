@@ -21,7 +21,7 @@ penalty_step)`` with the elements' lumped masses, critical step and the step the
 penalties are sized on, then, as a solver goes, ``internal_force``,
 ``strain_energy``, ``tangent``, ``update_history`` (state in, new history out), and the
 bookkeeping (``dissipated_energy``, ``tool_forces``, ``tool_displacements``, ``tool_nodes``,
-``tool_work``, ``node_fields``).
+``tool_work``, ``node_fields``, ``tool_penetrations``).
 
 Capabilities: what a quasi-static solver asks of a contact beyond its forces (its
 ``friction``; contact sets it freezes, ``unilateral_fallback``, ``opening_law`` and
@@ -475,6 +475,26 @@ class InteractionBlock(ReadOnlyState, ABC):
         """Work (N mm) the block's moving tools do on the body while the load factor goes from
         ``start`` to ``end``, with the forces at ``state``; 0 by default."""
         return 0.0
+
+    def tool_facing(self, state: State, history: Any = None) -> list[np.ndarray | None]:
+        """Per rigid tool of the block (``n_tools`` entries, ``tool_forces``' order) the unit
+        normals (s, 3) from the tool towards each node it may touch at ``state``: the way a
+        force-driven tool must be pushed to press the body (solvers/driven_tool_checks.py).
+        None for a tool the block does not say, every one by default."""
+        return [None] * self.n_tools
+
+    def tool_penetrations(
+        self, state: State, history: Any = None, share: float = 0.25
+    ) -> list[dict | None]:
+        """How deep the body's contact surface has gone into each of the block's rigid tools
+        at ``state`` (``n_tools`` entries, in ``tool_forces``' order): {deepest_mm (>= 0, 0
+        where no node presses it), node (the deepest's), at (3,) where it is, mm,
+        thickness_mm (the body's contact thickness there, twice its offset), pressed (how
+        many nodes press the tool), past_share (how many lie deeper than ``share`` of their
+        thickness), force_N (the pressed nodes' normal force), mean_mm (their mean depth)};
+        None for a tool the block does not measure, every one by default
+        (solvers/tool_penetration.py reads them after a run)."""
+        return [None] * self.n_tools
 
     def node_fields(self, state: State, history: Any = None) -> dict[str, np.ndarray]:
         """Nodal outputs {name: (n, ...)} for results and VTU files."""

@@ -33,8 +33,9 @@ acceleration = [0.0, 0.0, -9810.0]
 tool = "sphere"                          # "plane" | "annulus" | "sphere" | "cylinder" |
 centre = [0.0, 0.0, -50.0]               # "surface"; plane: point, normal; annulus: point,
 # normal, inner (the bore's radius: a holder's or a die flange's face); sphere: centre, radius;
-radius = 50.0                            # cylinder: point, axis, radius; surface: file, flip
-side = "outside"                         # sphere and cylinder: "outside" | "inside"
+radius = 50.0                            # cylinder: point, axis, radius; surface: file, flip,
+side = "outside"                         # smooth (true: a normal continuous across facets);
+# side (sphere and cylinder): "outside" | "inside"
 motion = [0.0, 0.0, 20.0]                # optional translation at the end, with amplitude
 # free = ["z"], force = [0.0, 0.0, -500.0], mass = 1e-3: free along z, pushed by 500 N (t);
 # a "surface" tool may take pressure = 0.2 (N/mm^2 on its facets' area) instead of force
@@ -96,16 +97,7 @@ from typing import Any
 
 import numpy as np
 
-from elements import (
-    FibreBending,
-    FibrousShell,
-    Grip,
-    RigidAnnulus,
-    RigidCylinder,
-    RigidPlane,
-    RigidSphere,
-    RigidSurface,
-)
+from elements import FibreBending, FibrousShell, Grip
 from elements.layup import Layup
 from elements.mindlin_fabric import NoDefaultStiffness
 from femcore import Mesh, Model
@@ -113,7 +105,15 @@ from fibreshell import registry
 from fibreshell.case_layup import layup_for, read_layup
 from fibreshell.case_materials import _material, _user_element
 from fibreshell.case_model import LocatedModel
-from fibreshell.case_reading import CaseError, _keywords, _number, _table, _vector, _Where
+from fibreshell.case_reading import (
+    CaseError,
+    _amplitude,
+    _keywords,
+    _number,
+    _table,
+    _vector,
+    _Where,
+)
 from fibreshell.case_sets import (
     BOUND_KEYS,
     BoundsError,
@@ -122,6 +122,7 @@ from fibreshell.case_sets import (
     unused_in,
     used_nodes,
 )
+from fibreshell.case_tools import read_tool
 from fibreshell.gravity_units import warn_gravity_units
 from fibreshell.outputs import DEFAULT_CHECKPOINT, checkpoint_collision
 from solvers import CentralDifference, DynamicRelaxation, Static
@@ -133,20 +134,6 @@ SOLVERS = {"static": Static, "relaxation": DynamicRelaxation, "explicit": Centra
 _SOLVER_RESERVED = {"self", "output", "history", "history_nodes", "progress"}
 _TOP = ("title", "mesh", "sets", "part", "layup", "fix", "displace", "force", "moment",
         "gravity", "contact", "grip", "fibre_bending", "solver", "output")  # fmt: skip
-TOOLS = {"plane": RigidPlane, "annulus": RigidAnnulus, "sphere": RigidSphere,
-         "cylinder": RigidCylinder, "surface": RigidSurface}  # fmt: skip
-# The geometry keys of each tool (its constructor's arguments, the mesh file for a surface).
-_TOOL_KEYS = {
-    "plane": ("point", "normal"),
-    "annulus": ("point", "normal", "inner"),
-    "sphere": ("centre", "radius", "side"),
-    "cylinder": ("point", "axis", "radius", "side"),
-    "surface": ("file", "flip", "search_distance"),
-}
-_CONTACT_KEYS: tuple[str, ...] = ("tool", "nodes", "friction", "penalty", "stick_stiffness")
-_CONTACT_KEYS += ("augmented", "augmented_tolerance", "damping", "motion", "amplitude")
-# A tool driven by a force along its free axes (a blank holder): elements.tools.RigidTool.
-_DRIVE_KEYS = ("free", "force", "mass", "pressure")
 
 
 @dataclass
@@ -460,12 +447,6 @@ def _list(where: _Where, data: dict, key: str) -> list:
     return value
 
 
-def _amplitude(where: _Where, value: Any) -> str:
-    if value not in ("step", "linear", "smooth"):
-        raise where.error("amplitude", f"expected 'step', 'linear' or 'smooth', got {value!r}")
-    return value
-
-
 def _mesh(top: _Where, value: Any, folder: Path) -> Mesh:
     table = _table(top, value, "mesh", ("rectangle", "corner", "file"))
     where = top.child("mesh")
@@ -604,65 +585,7 @@ def _displace(where: _Where, mesh: Mesh, value: dict) -> dict:
 
 def _contact(where: _Where, mesh: Mesh, value: dict, folder: Path) -> dict:
     """A ``[[contact]]`` table: its tool built, its nodes selected."""
-    kind = value.get("tool") if isinstance(value, dict) else None
-    if kind not in TOOLS:
-        raise where.error("tool", f"expected one of {', '.join(TOOLS)}, got {kind!r}")
-    _table(where, value, "", _CONTACT_KEYS + _DRIVE_KEYS + _TOOL_KEYS[kind], ("tool",))
-    options: dict[str, Any] = {}
-    if "free" in value:
-        free = value["free"]
-        if isinstance(free, str):
-            free = [free]
-        if not isinstance(free, list) or not all(isinstance(a, str) for a in free):
-            raise where.error("free", f'expected axis names such as ["z"], got {free!r}')
-        options["free"] = tuple(free)
-    for key in ("mass", "pressure"):
-        if key in value:
-            options[key] = _number(where, value[key], key)
-    if "pressure" in value and kind != "surface":
-        raise where.error(
-            "pressure",
-            'a pressure needs a meshed tool (tool = "surface"), whose facets have an area; '
-            "an analytic tool has none: give force = [...]",
-        )
-    for key in _TOOL_KEYS[kind] + ("motion", "force"):
-        if key not in value:
-            continue
-        item = value[key]
-        if key in ("point", "normal", "centre", "axis", "motion", "force"):
-            options[key] = _vector(where, item, key)
-        elif key in ("radius", "search_distance", "inner"):
-            options[key] = _number(where, item, key)
-        elif key == "file":
-            if not isinstance(item, str):
-                raise where.error(key, f"expected a path string, got {item!r}")
-            options["mesh"] = str(folder / item)
-        elif key == "flip":
-            if not isinstance(item, bool):
-                raise where.error(key, f"expected true or false, got {item!r}")
-            options[key] = item
-        else:  # side
-            options[key] = item
-    if "amplitude" in value:
-        options["amplitude"] = _amplitude(where, value["amplitude"])
-    # a key the tool cannot do without, named as the case file writes it (before the class's
-    # own "missing 1 required positional argument")
-    missing = [
-        "file" if name == "mesh" else name
-        for name, parameter in inspect.signature(TOOLS[kind]).parameters.items()
-        if parameter.default is inspect.Parameter.empty
-        and parameter.kind is not inspect.Parameter.VAR_KEYWORD
-        and parameter.kind is not inspect.Parameter.VAR_POSITIONAL
-        and name not in options
-    ]
-    if missing:
-        raise where.error(missing[0], f'tool = "{kind}" needs {", ".join(missing)}: not given')
-    try:
-        tool = TOOLS[kind](**options)
-    except (TypeError, ValueError) as error:
-        text = str(error)
-        key = next((k for k in _DRIVE_KEYS + ("motion",) if text.startswith(k)), "tool")
-        raise where.error(key, text) from None
+    tool = read_tool(where, value, folder)
     friction = _number(where, value.get("friction", 0.0), "friction")
     if friction < 0:
         raise where.error("friction", f"expected a Coulomb coefficient >= 0, got {friction!r}")

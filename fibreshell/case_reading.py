@@ -67,3 +67,9 @@ def _keywords(where: _Where, callable_: Any, options: dict, reserved=frozenset({
         if key not in names:
             raise where.error(key, f"unknown option {key!r}; expected one of {', '.join(names)}")
     return options
+
+
+def _amplitude(where: _Where, value: Any) -> str:
+    if value not in ("step", "linear", "smooth"):
+        raise where.error("amplitude", f"expected 'step', 'linear' or 'smooth', got {value!r}")
+    return value

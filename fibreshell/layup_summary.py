@@ -14,6 +14,7 @@ from elements.layup import Layup
 from elements.ply_crossing import crossed_nodes
 from elements.ply_slip import slip_summary
 from femcore.results import Frame
+from solvers.tool_penetration import PENALTY_MARGIN, PENETRATION_SHARE
 
 __all__ = [
     "PENETRATION_SHARE",
@@ -25,19 +26,8 @@ __all__ = [
 
 _SLIP = re.compile(r"ply_slip(?:_(\d+))?")
 _GAP = re.compile(r"ply_gap(?:_(\d+))?")
-#: The penetration of a ply contact past which a run warns, a share of the ply thickness h (the
-#: thinner ply's; a layup's plies are one fabric): a quarter of h, past which the plies' order
-#: and the stack's thickness are visibly off (0.1 MPa on a [0/90] fibrous pair of 0.3 mm plies
-#: at the automatic penalty overlaps them by 0.251 mm, 0.84 h; 0.2 MPa turns their order),
-#: above the shipped forming case's coarse pair, 0.10-0.12 h at the punch's pole, whose checks
-#: accept it (tests/test_case_layup.py).
-PENETRATION_SHARE = 0.25
-#: The penalty said to keep a contact within the share is this many times the one that would
-#: keep the mean of its pressed nodes' depths at the deepest's share: the load is shared out
-#: unevenly as the plies bend (the deepest node of a [0/90] pair pressed at 0.1 MPa, 2 cells a
-#: side, 1.28 times the mean under a uniform penalty, where the automatic one had pressed
-#: every node alike through the ply).
-PENALTY_MARGIN = 1.5
+# PENETRATION_SHARE, a quarter of the ply thickness, and PENALTY_MARGIN are the tools' too:
+# one share for every contact (solvers/tool_penetration.py says why).
 
 
 def ply_slip_fields(point_fields: dict[str, np.ndarray]) -> list[str]:

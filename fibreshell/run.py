@@ -650,6 +650,14 @@ def summarise(
     }
     if "quasi_static" in result.info:  # explicit runs: KE / W, mass and time scaling
         out["quasi_static"] = dict(result.info["quasi_static"])
+    if "energy_balance_error" in result.info:  # explicit runs: the step and the balance
+        out["explicit_step"] = {
+            "dt_s": result.info["dt"],
+            "energy_balance_error": result.info["energy_balance_error"],
+            "step_limits": result.info.get("step_limits"),
+        }
+    if "tool_penetration" in result.info:  # how deep the body went into each tool
+        out["tool_penetration"] = result.info["tool_penetration"]
     if len(final.tool_forces):  # the force on each tool ([[contact]] order), N
         out["tool_forces"] = {f"tool{i}": f for i, f in enumerate(final.tool_forces, start=1)}
         moved = getattr(final, "tool_displacements", np.zeros((0, 3)))

@@ -17,6 +17,7 @@ from femcore.model import CompiledModel, Model
 from femcore.results import Frame, Result
 from femcore.rotation import FRAME_FALLBACK
 from femcore.state import State
+from solvers.driven_tool_checks import check_driven_tools_face_body
 from solvers.progress import ProgressLine, resolve_progress
 
 __all__ = [
@@ -122,7 +123,9 @@ def check_held(model: CompiledModel, swings: bool = False) -> None:
     motion swings it down there). A model held by contact is refused for any rigid motion left
     free, loaded or not: a body on a frictionless tool slides along it at the first sideways
     force (the tools' curvature, the round-off of the contact forces), and its tangent is
-    singular along the slide."""
+    singular along the slide. A force-driven tool whose force points away from the body is
+    refused first (solvers/driven_tool_checks.py): no position balances it."""
+    check_driven_tools_face_body(model)
     motions = model.unheld_rigid_motions()
     notes = model.interaction_notes()
     noted = "".join(f"; {note}" for note in notes)

@@ -60,7 +60,9 @@ from solvers.output import (
 )
 from solvers.quasi_static import KINETIC_BOUND, kinetic_over_work, quasi_static_report
 from solvers.step import LumpedMasses, Step, explicit_step
+from solvers.step_limits import step_limits, warn_step_short
 from solvers.tool_force_watch import ToolForceWatch
+from solvers.tool_penetration import record_tool_penetration
 
 __all__ = ["CentralDifference"]
 
@@ -564,6 +566,10 @@ class CentralDifference(StableStepRule):
         duration = self.duration
         added_mass = float(mass.sum() - compiled.mass0.sum())
         refuse_up_front(self, compiled, added_mass, dt_nominal)
+        limits = None
+        if self.mass_scaling_dt is not None:  # what holds the step below the scaling's aim
+            limits = step_limits(compiled, state, scale, mass, self, dt_nominal)
+            warn_step_short(limits)
         run = _Run(
             state=state,
             scale=scale,
@@ -577,6 +583,7 @@ class CentralDifference(StableStepRule):
             strain_at_start=compiled.strain_energy(state),
             good=(state, None, None),
             tools=ToolForceWatch(compiled, duration) if len(compiled.driven_tools) else None,
+            step_limits=limits,
         )
         self._summarise(run, run.frames[0])
         return run
@@ -663,6 +670,12 @@ class CentralDifference(StableStepRule):
         result.wall_time = time.perf_counter() - started
         result.converged = converged
         result.energies = run.energy.arrays()
+        tools = getattr(run, "tools", None)
+        report, note = None, None
+        if tools is not None:  # a loose tool's kinetic energy is its own, not the body's
+            report = tools.report(run.state)
+            kinetic = float(result.energies["kinetic"][-1]) if len(result.energies["time"]) else 0.0
+            note = tools.kinetic_note(report, run.state, run.mass, kinetic)
         result.info = {
             "solver": "CentralDifference",
             "dt": run.dt_nominal,
@@ -671,6 +684,7 @@ class CentralDifference(StableStepRule):
             "damping": self.damping,
             "energy_balance_error": run.worst,
             "energy_growth": run.grown,
+            "step_limits": getattr(run, "step_limits", None),
             "wall_time_before_resume": getattr(run, "wall_before", 0.0),
             "quasi_static": quasi_static_report(
                 result.energies,
@@ -679,14 +693,14 @@ class CentralDifference(StableStepRule):
                 run.added_mass / compiled.element_mass,
                 self.process_duration,
                 warn=converged,
+                tool_note=note,
             ),
         }
-        tools = getattr(run, "tools", None)
         if tools is not None:
-            report = tools.report()
             result.info["quasi_static"]["driven_tools"] = report
             if converged and self._kinetic_bound(compiled) is not None:
                 tools.warn(report)
+        record_tool_penetration(compiled, result, "CentralDifference", converged)
         result.energies["kinetic_over_work"] = kinetic_over_work(
             result.energies["kinetic"], result.energies["external_work"]
         )
@@ -755,6 +769,7 @@ class _Run:
     tools: ToolForceWatch | None = None  # the force-driven tools' forces over the last half
     wall_time: float = 0.0  # s, the run's wall time up to its last checkpoint
     wall_before: float = 0.0  # s, the wall time of the parts before the resume (0: none)
+    step_limits: dict | None = None  # with mass scaling: the step's bounds at the start
 
 
 def _roundoff(compiled: CompiledModel, run: _Run, dt: float) -> float:

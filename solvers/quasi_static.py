@@ -90,6 +90,7 @@ def quasi_static_report(
     added_mass_ratio: float,
     process_duration: float | None = None,
     warn: bool = True,
+    tool_note: str | None = None,
 ) -> dict[str, Any]:
     """What a run's inertia did, from its energy records, and one UserWarning (with the time,
     the ratio and the share) if KE / W stayed above ``bound`` for more than KINETIC_SHARE of
@@ -107,6 +108,9 @@ def quasi_static_report(
         masses aside).
     process_duration : s, the real process's duration when the run is shorter (time scaling).
     warn : False for a run that stopped (its error says more).
+    tool_note : what the kinetic energy is where it is not the body's (force-driven tools
+        flying loose, solvers/tool_force_watch.py ``kinetic_note``): said in the warning in
+        place of the advice on the loading's pace.
 
     Returns
     -------
@@ -144,10 +148,14 @@ def quasi_static_report(
                 f"is {ratio[first]:.3g} of the external work ({energies['kinetic'][first]:.4g} "
                 f"of {work[first]:.4g} N mm; at most {largest:.3g}, at t = {largest_at:.6g} s), "
                 f"more than kinetic_bound = {bound:g}, and is above it for {share:.3g} of "
-                f"the judged time (more than KINETIC_SHARE = {KINETIC_SHARE:g}): inertia "
-                "shapes the answer. For a "
-                "quasi-static process, slow the loading (a longer duration), lower the mass "
-                "scaling or damp it; for a dynamic run, set kinetic_bound=None",
+                f"the judged time (more than KINETIC_SHARE = {KINETIC_SHARE:g}): "
+                + (
+                    "inertia shapes the answer. For a quasi-static process, slow the loading "
+                    "(a longer duration), lower the mass scaling or damp it"
+                    if tool_note is None
+                    else tool_note
+                )
+                + "; for a dynamic run, set kinetic_bound=None",
                 UserWarning,
                 stacklevel=outside_stacklevel(),
             )

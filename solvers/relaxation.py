@@ -69,6 +69,7 @@ from solvers.interrupts import STOP, Interrupted, check_outputs, keeps_writes
 from solvers.output import checkpoint_path, resume, save_checkpoint
 from solvers.progress import relaxed_share
 from solvers.step import advance, angular_rates
+from solvers.tool_penetration import record_tool_penetration
 
 __all__ = ["DAMPING_KINDS", "MASS_KINDS", "PLATEAU_FACTOR", "DynamicRelaxation"]
 
@@ -394,6 +395,7 @@ class DynamicRelaxation:
             "recoveries": masses.recoveries,
             "tol": self.tol,
         }
+        record_tool_penetration(compiled, result, "DynamicRelaxation", converged)
         return result
 
     # ------------------------------------------------------------------ one increment

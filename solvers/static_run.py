@@ -43,6 +43,7 @@ from solvers.output import FrameStream
 from solvers.round_off import rounding_stop
 from solvers.stabilisation import Dashpots
 from solvers.stop_diagnosis import stop_hint
+from solvers.tool_penetration import record_tool_penetration
 
 if TYPE_CHECKING:
     from solvers.static import Static
@@ -574,4 +575,5 @@ class StaticRun:
             "numeric_factorisations": self.linear.numeric,
         }
         result.info = dict(self.info, tol=self.solver.tol)
+        record_tool_penetration(self.model, result, "Static", converged)
         return result

@@ -122,8 +122,9 @@ def describe_cycles(model: Any, positions: np.ndarray | None = None) -> str:
         "; ".join(named)
         + more
         + ": under the closest-point normal a node pressed into a concave crease between "
-        "facets has no equilibrium on it; RigidSurface(smooth=True) gives the tool a normal "
-        "continuous across its edges (docs/theory.md §9.3)"
+        "facets has no equilibrium on it; RigidSurface(smooth=True) (in a case file, smooth = "
+        "true in the tool's [[contact]] table) gives the tool a normal continuous across its "
+        "edges (docs/theory.md §9.3)"
     )
 
 

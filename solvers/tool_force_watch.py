@@ -71,6 +71,8 @@ class ToolForceWatch:
         self.squared_load = np.zeros(k)
         self.lowest = np.full((k, 3), np.inf)
         self.highest = np.full((k, 3), -np.inf)
+        self.nodes = np.asarray(tools.nodes, dtype=np.int64).copy()
+        self.reference = np.asarray(model.reference_positions)[self.nodes].copy()
 
     def __len__(self) -> int:
         return len(self.names)
@@ -91,16 +93,20 @@ class ToolForceWatch:
         np.minimum(self.lowest, push, out=self.lowest)
         np.maximum(self.highest, push, out=self.highest)
 
-    def report(self) -> list[dict[str, Any]]:
+    def report(self, state=None) -> list[dict[str, Any]]:
         """One dict per tool node: ``tool`` ("tool2", or "tool2+tool3" for a node two
         contacts share), ``axes`` its free axes, ``from_s`` where the judged part begins, and
         along those axes (lists, N) ``force_min``, ``force_max`` and ``force_mean`` of the
         force the tool pressed the body with (minus ``tool_forces``: the prescribed force's
         sign), ``prescribed_mean``; ``departure`` the root mean square of their difference
         over that of the prescribed force (None where no force is prescribed, or before the
-        judged part)."""
+        judged part); ``travel`` (mm, along the free axes) its free translation at ``state``
+        (the run's last; None without it)."""
         out = []
         seen = self.weight > 0.0
+        travel = None
+        if state is not None and hasattr(self, "nodes"):  # (a watch pickled before: none)
+            travel = np.asarray(state.positions)[self.nodes] - self.reference
         for k, name in enumerate(self.names):
             axes = np.flatnonzero(self.free[k])
             share = None
@@ -118,16 +124,64 @@ class ToolForceWatch:
                     "force_mean": _along(mean, axes),
                     "prescribed_mean": _along(prescribed, axes),
                     "departure": share,
+                    "travel": None if travel is None else _along(travel[k], axes),
                 }
             )
         return out
+
+    @staticmethod
+    def loose(report: list[dict[str, Any]]) -> list[dict[str, Any]]:
+        """The tools of ``report`` that pressed nothing over the judged part of the run
+        (contact force exactly 0 along every free axis: no node touched them) while a force
+        was prescribed on them: they fly off under it."""
+        return [
+            tool for tool in report
+            if tool["force_min"] is not None and tool["force_max"] is not None
+            and not any(tool["force_min"]) and not any(tool["force_max"])
+            and tool["prescribed_mean"] is not None and any(tool["prescribed_mean"])
+        ]  # fmt: skip
+
+    def kinetic_note(
+        self, report: list[dict[str, Any]], state, mass: np.ndarray, kinetic: float
+    ) -> str | None:
+        """Where tools of ``report`` fly loose (``loose``), what the KE / W warning should say
+        instead of the run's inertia: the share of the run's kinetic energy at the end
+        (``kinetic``, N mm) that is theirs, 1/2 m v^2 of their nodes (``mass`` (n,) t,
+        ``state`` the last); None where none is loose."""
+        names = {tool["tool"] for tool in self.loose(report)}
+        if not names or not hasattr(self, "nodes"):
+            return None
+        flying = [k for k, name in enumerate(self.names) if name in names]
+        nodes = self.nodes[flying]
+        v = np.asarray(state.velocities)[nodes]
+        own = 0.5 * float(np.sum(np.asarray(mass)[nodes] * np.einsum("ij,ij->i", v, v)))
+        share = own / kinetic if kinetic > 0.0 else 0.0
+        return (
+            f"{share:.3g} of the kinetic energy at the end is the force-driven tools' own "
+            f"({', '.join(sorted(names))}, which pressed nothing over the last half of the "
+            "run and fly off under their force: see their warning), not the body's inertia"
+        )
 
     def warn(self, report: list[dict[str, Any]]) -> None:
         """One UserWarning for the tools of ``report`` whose departure is above
         TOOL_FORCE_SHARE: each tool's range and mean against its prescribed force, and what to
         do."""
+        loose = self.loose(report)
+        if loose:
+            said = "; ".join(_loose_phrase(tool) for tool in loose)
+            warnings.warn(
+                "a force-driven tool never touched the body over the last half of the run "
+                f"(t >= {self.start:.6g} s): {said}. Its force must point towards the body "
+                "(from the tool's face to the body's side of it): as it is, the tool leaves "
+                "the body, or never reaches it, and presses nothing; turn its force's sign, "
+                "or start it on the body",
+                UserWarning,
+                stacklevel=outside_stacklevel(),
+            )
         lines = []
         for tool in report:
+            if tool in loose:
+                continue
             if tool["departure"] is None or tool["departure"] <= TOOL_FORCE_SHARE:
                 continue
             along = ", ".join(
@@ -165,3 +219,14 @@ def _along(values: np.ndarray | None, axes: np.ndarray) -> list[float] | None:
     if values is None or not np.all(np.isfinite(values[axes])):
         return None
     return [float(v) for v in values[axes]]
+
+
+def _loose_phrase(tool: dict[str, Any]) -> str:
+    """What a loose tool of a report did: its prescribed force and its travel, per free
+    axis."""
+    travel = tool["travel"] or [None] * len(tool["axes"])
+    return f"{tool['tool']} pressed it with 0 N along " + ", ".join(
+        f"{axis} against {prescribed:.4g} N prescribed"
+        + ("" if move is None else f", and travelled {move:.4g} mm")
+        for axis, prescribed, move in zip(tool["axes"], tool["prescribed_mean"], travel)
+    )

@@ -316,10 +316,14 @@ def test_the_shipped_forming_layup_is_drawn_with_the_die_carrying_punch_and_hold
     assert [type(c["tool"]).__name__ for c in case.contacts] == [
         "RigidAnnulus", "RigidSphere", "RigidAnnulus",
     ]  # fmt: skip
-    with warnings.catch_warnings():
-        warnings.simplefilter("error", UserWarning)
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always", UserWarning)
         run = run_case(case, tmp_path, progress=False)
     assert run.status == "done"
+    # the one warning: the punch's pole node 0.139 mm (0.46 h) into the top ply at the end,
+    # past the quarter of h every contact warns at (solvers/tool_penetration.py)
+    said = [str(w.message) for w in caught if issubclass(w.category, UserWarning)]
+    assert len(said) == 1 and said[0].startswith("the body went into its rigid tools: tool2")
     die, punch, holder = run.result.frames[-1].tool_forces
     assert -die[2] == pytest.approx(punch[2] + holder[2], rel=0.01)
     assert holder[2] == pytest.approx(5.0, rel=0.05)

@@ -168,6 +168,16 @@ def test_a_node_cycling_across_a_users_meshed_crease_is_named():
         ({"gaps_decide": lambda self, h: False}, "gaps_decide\\(None\\) is not True"),
         ({"set_model": lambda self, *a: None}, "without its own with_set"),
         ({"softened_penalty": _left_changed}, "softened_penalty changed the forces"),
+        ({"tool_penetrations": lambda self, *a: []}, "tool_penetrations gave 0 entries"),
+        (
+            {"tool_penetrations": lambda self, *a: [{"deepest_mm": -1.0}] * self.n_tools},
+            "finite depth >= 0",
+        ),
+        ({"tool_facing": lambda self, *a: [None, None, None]}, "tool_facing gave 3 entries"),
+        (
+            {"tool_facing": lambda self, *a: [np.ones((2, 3))] * self.n_tools},
+            "not \\(s, 3\\) unit vectors",
+        ),
     ],
 )
 def test_the_interaction_kit_names_a_declaration_the_solvers_would_misread(members, message):

@@ -1,0 +1,74 @@
+"""A ``[[contact]]`` table's tool read from a case file (fibreshell/case_tools.py): a meshed
+tool's ``smooth`` (the remedy a Static stop in a concave crease gives, solvers/
+stop_diagnosis.py) reaches ``RigidSurface(smooth=True)``, checked as every key is."""
+
+import pytest
+
+from elements import RigidSurface
+from femcore import Mesh
+from fibreshell.case import CaseError, load_case
+from fibreshell.run import run_case
+
+CASE = """
+title = "plate under a meshed holder"
+[mesh]
+rectangle = {{ lx = 20.0, ly = 20.0, nx = 2, ny = 2 }}
+[[part]]
+element = "mindlin"
+material = {{ E = 1000.0, nu = 0.3, thickness = 1.0, density = 1e-9 }}
+[[fix]]
+nodes = {{ x_min = 0.0 }}
+dofs = ["ux", "uy"]
+[[contact]]
+tool = "plane"
+point = [0.0, 0.0, -0.5]
+normal = [0.0, 0.0, 1.0]
+[[contact]]
+tool = "surface"
+file = "face.vtu"
+flip = true
+{smooth}
+free = ["z"]
+pressure = 0.125
+[solver]
+kind = "static"
+increments = 2
+"""
+
+
+def write_case(tmp_path, smooth: str):
+    face = Mesh.rectangle(20.0, 20.0, nx=4, ny=4)
+    face.with_points(face.points + [0.0, 0.0, 0.5]).write(tmp_path / "face.vtu")
+    path = tmp_path / "holder.toml"
+    path.write_text(CASE.format(smooth=smooth))
+    return path
+
+
+def test_a_meshed_holder_takes_smooth_and_presses_its_pressure_through_the_plate(tmp_path):
+    """smooth = true builds the smoothed surface; on the flat face its normal is the facets',
+    so the die carries the holder's pressure times its 20 x 20 mm area, 50 N (statics, 1e-6:
+    Newton's tolerance is far below)."""
+    case = load_case(write_case(tmp_path, "smooth = true"))
+    tool = case.contacts[1]["tool"]
+    assert isinstance(tool, RigidSurface) and tool.smooth
+    run = run_case(case, tmp_path / "out", progress=False)
+    assert run.result.converged
+    assert run.result.tool_forces[-1, 0, 2] == pytest.approx(-50.0, rel=1e-6)
+
+
+def test_without_smooth_the_meshed_tool_keeps_its_closest_facet_normal(tmp_path):
+    assert not load_case(write_case(tmp_path, "")).contacts[1]["tool"].smooth
+
+
+@pytest.mark.parametrize("smooth", ['smooth = "yes"', "smooth = 1"], ids=["string", "number"])
+def test_smooth_that_is_not_a_boolean_is_refused_naming_the_key(tmp_path, smooth):
+    with pytest.raises(CaseError, match=r"contact\[1\]\.smooth\]: expected true or false"):
+        load_case(write_case(tmp_path, smooth))
+
+
+def test_smooth_on_an_analytic_tool_is_an_unknown_key(tmp_path):
+    path = write_case(tmp_path, "")
+    text = path.read_text().replace('tool = "plane"\npoint', 'tool = "plane"\nsmooth = true\npoint')
+    path.write_text(text)
+    with pytest.raises(CaseError, match=r"contact\[0\]\.smooth\]: unknown key"):
+        load_case(path)
