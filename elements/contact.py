@@ -95,11 +95,12 @@ from elements.contact_history import (
     FrictionHistory,
     accepted,
     initial_friction,
-    landing_terms,
     start_anchors,
 )
 from elements.contact_penalty import PENALTY_SHARE, automatic_penalty, damping_ratio
+from elements.contact_reports import penetration_report
 from elements.contact_start import check_start_gaps
+from elements.contact_tangent import friction_tangent
 from elements.node_rows import add_node_forces, distinct_nodes, row_sums, same_rows, shifted
 from elements.rigid_surface import RigidSurface
 from elements.tools import RigidTool
@@ -673,7 +674,6 @@ class ContactBlock(InteractionBlock):
         p, n, touching = self.touch(state, history)
         x = self._positions(state)
         k = self.stiffness[:, None, None]
-        eye = np.eye(3)
         nn = n[:, :, None] * n[:, None, :]
         curvature = self.tool.normal_gradient(x, n, state.load_factor)
         blocks = k * nn - k * p[:, None, None] * curvature
@@ -681,41 +681,8 @@ class ContactBlock(InteractionBlock):
         if stuck.any() or sliding.any():
             assert history is not None
             origin = self.tool.offset(state.load_factor)
-            anchors = start_anchors(history, x - origin, p, touching, self)
-            anchor = np.where(np.isfinite(anchors), anchors, 0.0)
-            r = x - (anchor + origin)
-            normal_part = np.sum(n * r, axis=1)[:, None, None]
-            curved_r = np.einsum("sij,sj->si", curvature, r)
-            ds_dx = eye - nn - normal_part * curvature - n[:, :, None] * curved_r[:, None, :]
-            ds_dx = ds_dx + landing_terms(self, history, x - origin, p, touching, n)
-            length = np.linalg.norm(s, axis=1)
-            unit = s / np.where(length > 0, length, 1.0)[:, None]
-            # A frozen node pulled off the tool (p < 0) has the limit mu k max(p, 0) = 0.
-            mu = self.friction * (p > 0.0)[:, None, None]
-            pressed = np.maximum(p, 0.0)
-            slip_part = -mu * k * unit[:, :, None] * n[:, None, :] + (
-                mu * k * (pressed / np.where(length > 0, length, 1.0))[:, None, None]
-            ) * np.einsum("sij,sjk->sik", eye - unit[:, :, None] * unit[:, None, :], ds_dx)
-            if history.sliding is not None:  # a frozen direction d, projected: v = P d
-                fixed = history.direction
-                v = fixed - np.sum(fixed * n, axis=1)[:, None] * n
-                size = np.linalg.norm(v, axis=1)
-                along = v / np.where(size > 0, size, 1.0)[:, None]
-                curved_d = np.einsum("sij,sj->si", curvature, fixed)
-                dv_dx = (
-                    -np.sum(n * fixed, axis=1)[:, None, None] * curvature
-                    - n[:, :, None] * curved_d[:, None, :]
-                )
-                turn = (eye - along[:, :, None] * along[:, None, :]) / np.where(
-                    size > 0, size, 1.0
-                )[:, None, None]
-                slip_part = -mu * k * along[:, :, None] * n[:, None, :] + mu * k * pressed[
-                    :, None, None
-                ] * np.einsum("sij,sjk->sik", turn, dv_dx)
-            blocks = blocks + np.where(
-                stuck[:, None, None],
-                self.stick_ratio * k * ds_dx,
-                np.where(sliding[:, None, None], slip_part, 0.0),
+            blocks = blocks + friction_tangent(
+                self, history, x - origin, p, n, touching, curvature, s, stuck, sliding
             )
         blocks = np.where(touching[:, None, None], blocks, 0.0)
         if self.tool_node is not None:
@@ -788,25 +755,7 @@ class ContactBlock(InteractionBlock):
         if nodes.size == 0:
             return [None]
         d, _ = self.tool.distance(self._positions(state), state.load_factor)
-        offset = np.broadcast_to(np.asarray(self.offset, dtype=float), d.shape)
-        depth = offset - d
-        deepest = int(np.argmax(depth))
-        pressed = depth > 0.0
-        return [
-            {
-                "deepest_mm": max(float(depth[deepest]), 0.0),
-                "node": int(nodes[deepest]),
-                "at": state.positions[nodes[deepest]].copy(),
-                "thickness_mm": 2.0 * float(offset[deepest]),
-                "pressed": int(np.count_nonzero(pressed)),
-                # a body without thickness (a cable, offset 0) has no share to pass
-                "past_share": int(
-                    np.count_nonzero(pressed & (offset > 0.0) & (depth > share * 2.0 * offset))
-                ),
-                "force_N": float(np.sum(self.stiffness[pressed] * depth[pressed])),
-                "mean_mm": float(np.mean(depth[pressed])) if pressed.any() else 0.0,
-            }
-        ]
+        return [penetration_report(nodes, state.positions, d, self.offset, self.stiffness, share)]
 
     def node_fields(self, state: State, history: Any = None) -> dict[str, np.ndarray]:
         """contact_gap (mm, < 0 a penetration, NaN off the node set), contact_force (the normal
