@@ -1,11 +1,16 @@
 """Diagnostics of a compiled model before it is solved: the rigid motions its supports leave
-free (a mechanism the quasi-static solvers cannot equilibrate)."""
+free (a mechanism the quasi-static solvers cannot equilibrate), checked on each connected part
+of the body (femcore.connected_parts): a strip that no element joins to a clamped one is a
+free body of its own, whatever holds the other."""
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from typing import TYPE_CHECKING
 
 import numpy as np
+
+from femcore.connected_parts import body_nodes, connected_parts, described_part
 
 if TYPE_CHECKING:
     from femcore.compiled import CompiledModel
@@ -30,20 +35,36 @@ RIGID_MOTIONS: tuple[str, ...] = (
 )
 
 
-def _rigid_basis(model: CompiledModel):
-    """The six rigid motions of the model and those its supports leave free: (motions (6, n,
-    6), generalised (6, n, 5), held (rows, 6), free_motions (k, 6): each a translation and a
-    rotation vector about ``centre``, scale (6,), centre (3,)); None where an interaction does
-    not say what it holds."""
-    contact_rows = _interaction_rows(model)
+def _per_part(model: CompiledModel, check: Callable[[np.ndarray | None], list[str]]) -> list[str]:
+    """``check`` on the whole body when it is in one piece; on each connected part otherwise,
+    each part's findings joined and named after the part ("translation along z of the part of
+    15 nodes ...")."""
+    parts = connected_parts(model)
+    if len(parts) <= 1:
+        return check(None)
+    found = []
+    for part in parts:
+        motions = check(part)
+        if motions:
+            found.append(f"{', '.join(motions)} of {described_part(part, len(parts))}")
+    return found
+
+
+def _rigid_basis(model: CompiledModel, part: np.ndarray | None = None):
+    """The six rigid motions of the model (of its nodes in ``part``, (n,) bool, when given)
+    and those its supports leave free: (motions (6, n, 6), generalised (6, n, 5), held (rows,
+    6), free_motions (k, 6): each a translation and a rotation vector about ``centre``, scale
+    (6,), centre (3,)); None where an interaction does not say what it holds."""
+    contact_rows = _interaction_rows(model, part)
     if contact_rows is None:
         return None
     dofs = model.dofs
     x = model.reference_positions
     # A rigid tool's own node (a force-driven tool) is another body: it does not move with
     # the model's rigid motions, and its supports and loads hold or push none of them.
-    body = dofs.active[:, 0].copy()
-    body[model.rigid_nodes] = False
+    body = body_nodes(model)
+    if part is not None:
+        body &= part
     centre = x[body].mean(axis=0) if body.any() else x.mean(0)
     axes = np.eye(3)
     # (6 motions, n, 6): u then psi per node.
@@ -52,6 +73,8 @@ def _rigid_basis(model: CompiledModel):
     motions[3:, :, :3] = np.cross(axes[:, None, :], (x - centre)[None])
     motions[3:, :, 3:] = np.where(model.has_rotation[None, :, None], axes[:, None, :], 0.0)
     motions[:, model.rigid_nodes] = 0.0
+    if part is not None:
+        motions[:, ~part] = 0.0  # another part moves on its own
     frames = dofs.frames(model.reference_directors)
     v1, v2 = frames if frames is not None else (x, x)
     # Generalised components (u, alpha = psi . V2, beta = psi . V1) as the DOF masks.
@@ -68,7 +91,7 @@ def _rigid_basis(model: CompiledModel):
     if len(nodes):  # n . u of each rigid motion at the held nodes
         along = np.einsum("knj,nj->nk", motions[:, nodes, :3], directions)
         held = np.concatenate([held, along])
-    length = max(float(np.ptp(x, axis=0).max()), 1e-300)
+    length = max(float(np.ptp(x[body] if body.any() else x, axis=0).max()), 1e-300)
     scale = np.array([1.0, 1.0, 1.0, length, length, length])  # rotations as translations
     held = held / scale
     if held.size:
@@ -96,14 +119,23 @@ def unheld_rigid_motions(model: CompiledModel, loaded_only: bool = True) -> list
     about a cylinder's axis stays free); a model with an interaction that does not say is not
     checked.
 
+    A body in several connected parts (femcore.connected_parts) is checked part by part,
+    each part's motions named after it.
+
     Returns
     -------
     list of str
         The elementary motions (e.g. "translation along z") along which the loads do work
         with nothing holding the model, or a description of the combined motion; empty
-        when every loaded rigid motion is held.
+        when every loaded rigid motion is held. For a body in parts, one entry per part with
+        unheld motions: its motions "of the part of 15 nodes 15, 16, ..., 29 (...)".
     """
-    basis = _rigid_basis(model)
+    return _per_part(model, lambda part: _unheld(model, loaded_only, part))
+
+
+def _unheld(model: CompiledModel, loaded_only: bool, part: np.ndarray | None) -> list[str]:
+    """unheld_rigid_motions of the body's nodes in ``part`` (all of them: None)."""
+    basis = _rigid_basis(model, part)
     if basis is None:
         return []
     motions, generalised, held, free_motions, scale, centre = basis
@@ -130,6 +162,11 @@ def unheld_rigid_motions(model: CompiledModel, loaded_only: bool = True) -> list
         others = rest[:, weights > 1e-6].T / scale  # (the rows of free_motions are unit)
         return named + [_described(q, centre) for q in others]
     for force, moment in _load_levels(model):
+        if part is not None:  # another part's loads push that part alone
+            force, moment = (
+                np.where(part[:, None], force, 0.0),
+                np.where(part[:, None], moment, 0.0),
+            )
         load = np.concatenate([force, moment], axis=1)
         work = np.einsum("kc,cnj,nj->k", free_motions, motions, load)
         size = max(float(np.linalg.norm(force)) * length + float(np.linalg.norm(moment)), 1e-300)
@@ -163,13 +200,19 @@ def unbalanced_translations(model: CompiledModel) -> list[str]:
     list of str
         The direction of the net force's part along the free translations ("translation
         along z", or "translation along (0.6, 0, 0.8)"); empty when there is none (or an
-        interaction does not say what it holds, as for ``unheld_rigid_motions``).
+        interaction does not say what it holds, as for ``unheld_rigid_motions``). Part by
+        part for a body in parts, as ``unheld_rigid_motions``.
     """
-    contact_rows = _interaction_rows(model)
+    return _per_part(model, lambda part: _unbalanced_translations(model, part))
+
+
+def _unbalanced_translations(model: CompiledModel, part: np.ndarray | None) -> list[str]:
+    contact_rows = _interaction_rows(model, part)
     if contact_rows is None:
         return []
-    body = model.dofs.active[:, 0].copy()
-    body[model.rigid_nodes] = False
+    body = body_nodes(model)
+    if part is not None:
+        body &= part
     held_columns = model.dofs.constrained[body, :3].any(axis=0)
     rows = [np.eye(3)[held_columns], contact_rows[1]]
     held = np.concatenate(rows) if any(len(r) for r in rows) else np.zeros((0, 3))
@@ -205,9 +248,14 @@ def unbalanced_turns(model: CompiledModel) -> list[str]:
     -------
     list of str
         The directions w ("rotation about y", or "rotation about (0.6, 0, 0.8)"); empty when
-        there is none, or an interaction does not say what it holds.
+        there is none, or an interaction does not say what it holds. Part by part for a body
+        in parts, as ``unheld_rigid_motions``.
     """
-    basis = _rigid_basis(model)
+    return _per_part(model, lambda part: _unbalanced_turns(model, part))
+
+
+def _unbalanced_turns(model: CompiledModel, part: np.ndarray | None) -> list[str]:
+    basis = _rigid_basis(model, part)
     if basis is None or not len(basis[3]):
         return []
     free, scale = basis[3], basis[4]
@@ -218,9 +266,11 @@ def unbalanced_turns(model: CompiledModel) -> list[str]:
     found = []
     for w in directions:
         for force, moment in _load_levels(model):
-            # Every force counts, a force-driven tool's too: it pushes the body through its
-            # contact, and across w it may balance the moment a finite turn away.
-            forces = force
+            # Every force on the part counts, a force-driven tool's too: it pushes the body
+            # through its contact, and across w it may balance the moment a finite turn away.
+            forces = force if part is None else force[part | _tool_nodes(model)]
+            if part is not None:
+                moment = moment[part]
             across = float(np.abs(np.cross(forces, w)).sum())
             if across > 1e-9 * max(float(np.abs(forces).sum()), 1e-300):
                 continue  # a force across w may turn it back a finite turn away
@@ -274,9 +324,19 @@ def _described(motion: np.ndarray, centre: np.ndarray) -> str:
     )
 
 
-def _interaction_rows(model: CompiledModel) -> tuple[np.ndarray, np.ndarray] | None:
-    """The nodes (k,) and unit directions (k, 3) the interactions hold against the ground,
-    or None when one of them does not say (InteractionBlock.held_directions)."""
+def _tool_nodes(model: CompiledModel) -> np.ndarray:
+    """(n,) bool: the force-driven tools' own nodes."""
+    tools = np.zeros(model.n_nodes, dtype=bool)
+    tools[model.rigid_nodes] = True
+    return tools
+
+
+def _interaction_rows(
+    model: CompiledModel, part: np.ndarray | None = None
+) -> tuple[np.ndarray, np.ndarray] | None:
+    """The nodes (k,) and unit directions (k, 3) the interactions hold against the ground
+    (those of the nodes in ``part`` when given), or None when one of them does not say
+    (InteractionBlock.held_directions)."""
     nodes, directions = [np.zeros(0, dtype=np.int64)], [np.zeros((0, 3))]
     for block in model.interactions:
         held = block.held_directions()
@@ -284,7 +344,11 @@ def _interaction_rows(model: CompiledModel) -> tuple[np.ndarray, np.ndarray] | N
             return None
         nodes.append(np.asarray(held[0], dtype=np.int64).reshape(-1))
         directions.append(np.asarray(held[1], dtype=float).reshape(-1, 3))
-    return np.concatenate(nodes), np.concatenate(directions)
+    held_nodes, held_directions = np.concatenate(nodes), np.concatenate(directions)
+    if part is not None:
+        kept = part[held_nodes]
+        held_nodes, held_directions = held_nodes[kept], held_directions[kept]
+    return held_nodes, held_directions
 
 
 def interaction_notes(model: CompiledModel) -> list[str]:
