@@ -1,6 +1,7 @@
 """The connected parts of a compiled model: the sets of body nodes that its element blocks and
 its interactions between body nodes join, each of which moves as a rigid body of its own when
-nothing holds it (two strips of a mesh left unmerged, a ply that touches no other ply).
+nothing holds it (two strips of a mesh left unmerged, a cable beside a shell it shares no
+node with).
 
 What is decidable at the start is the graph of the cells and of the interactions' node groups
 (``connectivity``): a ply contact or a grip joins the nodes it couples whatever their gap, a
@@ -35,8 +36,8 @@ def body_nodes(model: CompiledModel) -> np.ndarray:
 
 
 def connected_parts(model: CompiledModel) -> list[np.ndarray]:
-    """The connected parts of the model's body, largest first: each an (n,) bool mask over the
-    nodes. One mask (every body node) for a model in one piece.
+    """The connected parts of the model's body, largest first: each the (k,) int ids of its
+    nodes, increasing. One (every body node) for a model in one piece.
 
     Two body nodes are joined when a row of an element block's ``connectivity`` holds both, or
     a row of an interaction's that acts between body nodes (``n_tools`` 0: a ply contact, a
@@ -66,17 +67,19 @@ def connected_parts(model: CompiledModel) -> list[np.ndarray]:
         (np.ones(int(inside.sum())), (head[inside], tail[inside])), shape=(n, n)
     ).tocsr()
     _, labels = connected_components(graph, directed=False)
-    labels = np.where(body, labels, -1)
-    found, counts = np.unique(labels[body], return_counts=True)
+    nodes = np.flatnonzero(body)
+    _, counts = np.unique(labels[nodes], return_counts=True)
     order = np.argsort(-counts, kind="stable")
-    return [labels == found[i] for i in order]
+    # the body's nodes grouped by part (a stable sort keeps each part's ids increasing)
+    grouped = nodes[np.argsort(labels[nodes], kind="stable")]
+    ends = np.cumsum(counts)
+    return [grouped[ends[i] - counts[i] : ends[i]] for i in order]
 
 
-def described_part(part: np.ndarray, parts: int) -> str:
-    """A part in words for a message: its node count and its first node numbers (0-based, the
-    mesh's order), e.g. "the part of 15 nodes 15, 16, ..., 29 (one of 2 that no element or
-    interaction joins)"."""
-    nodes = np.flatnonzero(part)
+def described_part(nodes: np.ndarray, parts: int) -> str:
+    """A part (its node ids (k,), increasing) in words for a message: its node count and its
+    first node numbers (0-based, the mesh's order), e.g. "the part of 15 nodes 15, 16, ...,
+    29 (...; one of 2 parts that no element or interaction joins)"."""
     if len(nodes) <= LISTED_NODES:
         listed = ", ".join(str(int(i)) for i in nodes)
     else:

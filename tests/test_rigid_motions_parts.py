@@ -60,3 +60,18 @@ def test_the_solvers_refuse_a_free_part_before_iterating(solver):
 
 def test_two_parts_each_clamped_are_held():
     assert two_strips(clamp_second=True).compile().unheld_rigid_motions(loaded_only=False) == []
+
+
+def test_many_free_parts_are_named_up_to_five_and_the_rest_counted():
+    # Eight squares side by side (a mesh whose facets were never merged), the first clamped,
+    # all under gravity: seven fall, five are named and two counted.
+    square = Mesh.rectangle(10.0, 10.0, nx=2, ny=2)
+    points = np.vstack([square.points + [12.0 * i, 0.0, 0.0] for i in range(8)])
+    cells = np.vstack([square.triangles + square.n_nodes * i for i in range(8)])
+    model = Model(Mesh(points, triangles=cells))
+    model.add(MindlinShell(ElasticShell(E=1000.0, nu=0.3, thickness=1.0, density=1e-9)))
+    model.fix(np.arange(square.n_nodes))
+    model.gravity((0.0, 0.0, -9810.0))
+    motions = model.compile().unheld_rigid_motions()
+    assert len(motions) == 6 and motions[-1] == "and 2 more parts so"
+    assert motions[0].startswith("translation along z of the part of 9 nodes 9, 10, 11")
