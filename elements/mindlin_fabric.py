@@ -376,5 +376,13 @@ class MindlinFabricBlock(MindlinShellBlock):
             "warp_moment": answer.moments[:, 0],
             "weft_moment": answer.moments[:, 1],
             # the deformed fibres (unit, global axes): what "11" and "22" are taken along
-            **fibre_directions(state.positions, self.connectivity, self.fibre_components),
+            **self._fibre_directions(state),
         }
+
+    def _fibre_directions(self, state: State) -> dict[str, np.ndarray]:
+        """warp_direction and weft_direction (m, 3) (elements/fibre_directions.py); none for
+        a block pickled before it kept their components (a checkpoint of an earlier run)."""
+        components = getattr(self, "fibre_components", None)
+        if components is None:
+            return {}
+        return fibre_directions(state.positions, self.connectivity, components)

@@ -59,3 +59,12 @@ def test_the_fibres_follow_a_rigid_rotation_and_a_homogeneous_shear():
         for name, a in (("warp_direction", warp), ("weft_direction", weft)):
             expected = F @ a / np.linalg.norm(F @ a)
             np.testing.assert_allclose(fibres[name], np.tile(expected, (8, 1)), atol=1e-12)
+
+
+@pytest.mark.parametrize("kinematics", ["fibrous", "mindlin"])
+def test_a_block_pickled_before_the_directions_existed_writes_its_other_fields(kinematics):
+    # a checkpoint's model written by an earlier run has blocks without fibre_components
+    compiled = Layup(FABRIC, (0.0,), lx=20.0, cells=2, kinematics=kinematics).model().compile()
+    del compiled.blocks[0].fibre_components
+    fields = compiled.fields(compiled.initial_state())["triangle"]
+    assert "membrane_force" in fields and "warp_direction" not in fields
