@@ -103,6 +103,7 @@ from elements.contact_start import check_start_gaps
 from elements.contact_tangent import friction_tangent
 from elements.node_rows import add_node_forces, distinct_nodes, row_sums, same_rows, shifted
 from elements.rigid_surface import RigidSurface
+from elements.tool_scale import warn_tool_scale
 from elements.tools import RigidTool
 from femcore.assembly import CellTangent, Scatter
 from femcore.checks import as_number, as_reals
@@ -367,7 +368,9 @@ class ContactBlock(InteractionBlock):
 
     def check_start(self) -> None:
         """ValueError when nodes start past the tool's surface, a UserWarning when they
-        start overlapping it (elements/contact_start.py)."""
+        start overlapping it (elements/contact_start.py), or when a meshed tool's size is
+        off the body's by more than a hundred times (elements/tool_scale.py)."""
+        warn_tool_scale(self.tool, self._reference)  # a tool mesh in m beside a body in mm
         d, _ = self.tool.distance(self._reference, 0.0)
         check_start_gaps(self.tool, d, self.offset, self.connectivity[:, 0], self.tolerance)
 

@@ -607,7 +607,9 @@ class CompiledModel(CompiledTangent):
         at the nodes outside the block (not defined there). Element blocks on disjoint nodes give
         one node field of a name (each node's value from its own block); parts that share
         nodes give name, name_2, ... in the order of the parts, and so do cell fields of one
-        name whose shapes differ between blocks."""
+        name whose shapes differ between blocks. A model of several element blocks has the
+        cell field "part": each cell's block, 1 for the first added (a layup's ply number,
+        bottom ply 1), NaN on cells no block covers."""
         out: dict[str, dict] = {"point": {}, **{kind: {} for kind in CELL_KINDS}}
         counts = {kind: len(self.mesh.cells(kind)) for kind in CELL_KINDS}
         covered: dict[str, np.ndarray | None] = {}  # field -> the nodes element blocks gave it
@@ -652,6 +654,13 @@ class CompiledModel(CompiledTangent):
                     key, np.full((counts[kind],) + values.shape[1:], np.nan)
                 )
                 full[part.cell_ids] = values
+        if len(self.blocks) > 1:
+            # which part each cell belongs to: a layup's ply number, bottom ply 1
+            # (docs/theory.md §9.3b), or the element block's in the order they were added
+            for number, block in enumerate(self.blocks, start=1):
+                kind = block.cell_type
+                numbers = out[kind].setdefault("part", np.full(counts[kind], np.nan))
+                numbers[block.cell_ids] = float(number)
         return out
 
 

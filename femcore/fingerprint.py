@@ -106,7 +106,8 @@ class Fingerprint:
             )
             shown = ", ".join(labels[:4]) + (", ..." if len(labels) > 4 else "")
             name = "solver settings" if part == "solver" else part
-            phrases.append(f"its {name} differ" + (f" ({shown})" if shown else ""))
+            verb = "differs" if name == "mesh" else "differ"  # the one singular part
+            phrases.append(f"its {name} {verb}" + (f" ({shown})" if shown else ""))
         return phrases
 
 

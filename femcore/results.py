@@ -449,7 +449,7 @@ class Result:
             stem = path.with_suffix("")
             entries = []
             for i, step in enumerate(self.timesteps):
-                part = stem.parent / f"{stem.name}_{i:04d}.vtu"
+                part = stem.parent / f"{stem.name}_{i:05d}.vtu"  # as a streamed series names them
                 write_vtu(self.to_meshio(i), part)
                 written.append(part.name)
                 entries.append(

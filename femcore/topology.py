@@ -20,10 +20,12 @@ import numpy as np
 from numpy.typing import ArrayLike
 from scipy.spatial import cKDTree
 
+from femcore.orientation import facing_sides
 from femcore.read_only_state import ReadOnlyState
 from femcore.rotation import cross
 
 __all__ = [
+    "MeshTopologyError",
     "Topology",
     "build_topology",
     "check_duplicate_nodes",
@@ -40,6 +42,13 @@ __all__ = [
 # diagonal) are duplicates; a triangle with area <= ZERO_AREA_TOL * diagonal**2 is degenerate.
 DUPLICATE_TOL = 1e-9
 ZERO_AREA_TOL = 1e-12
+
+
+class MeshTopologyError(ValueError):
+    """A triangle mesh that no shell can use (an edge of three triangles, neighbours facing
+    opposite ways, duplicate nodes, a triangle of no area): raised by the checks below, so
+    that a case file's reader names the mesh it read (fibreshell/case_model.py)."""
+
 
 # Local node pairs of sides 0, 1, 2 (side s is opposite local node s), in traversal order.
 _SIDE_START = np.array([1, 2, 0])
@@ -300,9 +309,11 @@ def _raise_if_non_manifold(
     edge = int(crowded[0])
     lo, hi = divmod(int(unique_keys[edge]), base)
     owners = _named(np.unique(np.flatnonzero(edge_of_half == edge) // 3), names).tolist()
-    raise ValueError(
+    raise MeshTopologyError(
         f"non-manifold edge ({lo}, {hi}) is shared by {counts[edge]} triangles {owners}; "
-        "at most two triangles may share an edge"
+        "at most two triangles may share an edge (a fin or a T-junction: split the mesh into "
+        "parts that each have at most two triangles on an edge). Triangle and node numbers "
+        "are 0-based positions in the mesh's order"
     )
 
 
@@ -340,14 +351,38 @@ def _check_orientation(tri: np.ndarray, groups: tuple, names: np.ndarray | None 
     interior = np.flatnonzero(counts == 2)
     h0, h1 = first[interior], second[interior]
     directed = _directed_sides(tri).reshape(-1, 2)  # (3m, 2): start and end of half-edge h
-    same = np.flatnonzero(directed[h0, 0] == directed[h1, 0])
+    inconsistent = directed[h0, 0] == directed[h1, 0]
+    same = np.flatnonzero(inconsistent)
     if same.size:
         k = int(same[0])
         t0, t1 = _named(np.array([h0[k] // 3, h1[k] // 3]), names).tolist()
         start, end = directed[h0[k]].tolist()
-        raise ValueError(
+        pairs = np.column_stack([h0 // 3, h1 // 3])
+        sides = facing_sides(len(tri), pairs, inconsistent, int(h0[k] // 3))
+        if sides.orientable:
+            listed = _listed(_named(sides.other_way, names))
+            count = (
+                f"{len(sides.other_way)} of the {len(sides.surface)} triangles of their "
+                f"connected surface {'faces' if len(sides.other_way) == 1 else 'face'} the "
+                f"other way from the rest ({listed})"
+            )
+            remedy = (
+                "reverse those triangles' node order (gmsh: gmsh.model.mesh.reverse on the "
+                "surfaces they belong to before writing the mesh; an Abaqus deck: list their "
+                "nodes in the other order), so that every normal points to the same side"
+            )
+        else:
+            count = (
+                f"their connected surface of {len(sides.surface)} triangles is not "
+                "orientable (a Moebius band: no choice of sides makes it consistent)"
+            )
+            remedy = "cut the surface so that it has two sides"
+        total = int(np.count_nonzero(inconsistent))
+        raise MeshTopologyError(
             f"triangles {t0} and {t1} have inconsistent orientation: both traverse "
-            f"edge {start} -> {end} in the same direction"
+            f"edge {start} -> {end} in the same direction ({total} shared "
+            f"edge{'s' if total != 1 else ''} so traversed in all); {count}: {remedy}. "
+            "Triangle and node numbers are 0-based positions in the mesh's order"
         )
 
 
@@ -382,6 +417,15 @@ def opposed_neighbours(triangles: ArrayLike) -> np.ndarray:
     same = directed[first, 0] == directed[second, 0]
     first, second = first[same], second[same]
     return np.column_stack([first // 3, second // 3, directed[first]]).astype(np.int64)
+
+
+def _listed(ids: np.ndarray, shown: int = 10) -> str:
+    """ "triangles 3, 4, 5" or "triangles 3, 4, ..., 40" (the first ``shown``)."""
+    ids = np.asarray(ids).reshape(-1)
+    word = "triangle" if len(ids) == 1 else "triangles"
+    if len(ids) <= shown:
+        return f"{word} " + ", ".join(str(int(i)) for i in ids)
+    return f"{word} " + ", ".join(str(int(i)) for i in ids[: shown - 1]) + f", ..., {int(ids[-1])}"
 
 
 def _length_scale(points: np.ndarray) -> float:
@@ -433,9 +477,13 @@ def _check_duplicate_nodes(pts: np.ndarray, cells: np.ndarray | None) -> None:
     ids = np.sort(used[pairs], axis=1)
     a, b = ids[np.lexsort((ids[:, 1], ids[:, 0]))[0]].tolist()
     distance = np.linalg.norm(pts[a] - pts[b])
-    raise ValueError(
+    raise MeshTopologyError(
         f"duplicate nodes {a} and {b}: distance {distance:.3g} <= tolerance {tol:.3g} "
-        f"({DUPLICATE_TOL:g} x bounding-box diagonal)"
+        f"({DUPLICATE_TOL:g} x bounding-box diagonal); {len(ids)} such pair"
+        f"{'s' if len(ids) != 1 else ''} in all: merge coincident nodes (gmsh: "
+        "gmsh.model.mesh.removeDuplicateNodes, or fragment the geometry so that the surfaces "
+        "share their edges) so that the triangles around them are joined. Node numbers are "
+        "0-based positions in the mesh's order"
     )
 
 
@@ -476,9 +524,11 @@ def _check_zero_area(pts: np.ndarray, tri: np.ndarray, names: np.ndarray | None 
     flat = np.flatnonzero(area <= tol)
     if flat.size:
         t = int(flat[0])
-        raise ValueError(
+        raise MeshTopologyError(
             f"triangle {int(_named(flat[:1], names)[0])} with nodes {tuple(tri[t].tolist())} "
-            f"has zero area ({area[t]:.3g} <= tolerance {tol:.3g})"
+            f"has zero area ({area[t]:.3g} <= tolerance {tol:.3g}); {flat.size} such "
+            f"triangle{'s' if flat.size != 1 else ''} in all. Triangle and node numbers are "
+            "0-based positions in the mesh's order"
         )
 
 

@@ -190,6 +190,7 @@ class Case:
     paths: dict = field(default_factory=dict)
     node_sets: dict = field(default_factory=dict)
     layup: Layup | None = None
+    mesh_file: str | None = None  # [mesh] file as written, which a mesh error names
 
     # ------------------------------------------------------------------ building
     def model(self, kinematics: str | None = None, calibration=None) -> Model:
@@ -212,7 +213,7 @@ class Case:
                 plies = layup_for(self.layup, kinematics, rule).model()
             located = LocatedModel(plies, top.child("layup"))
         else:
-            located = LocatedModel(Model(self.mesh))
+            located = LocatedModel(Model(self.mesh), None, top.child("mesh"), self.mesh_file)
         for i, part in enumerate(self.parts if self.layup is None else ()):
             element = part["element"]
             if kinematics == "mindlin" and isinstance(element, FibrousShell):
@@ -342,7 +343,7 @@ def case_from_data(data: dict, path: str | Path) -> Case:
     if not isinstance(title, str):
         raise top.error("title", f"expected a string, got {title!r}")
     mesh = _mesh(top, data["mesh"], path.parent)
-    case = Case(path=path, title=title, mesh=mesh)
+    case = Case(path=path, title=title, mesh=mesh, mesh_file=data["mesh"].get("file"))
     case.parts = [_part(top.child(f"part[{i}]"), p) for i, p in enumerate(_list(top, data, "part"))]
     if "layup" in data:  # the plies' mesh is the case's: every selector below names its nodes
         case.layup = read_layup(top, data, case.parts)

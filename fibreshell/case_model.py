@@ -11,6 +11,7 @@ from contextlib import contextmanager
 
 from femcore import Model
 from femcore.entry_error import ENTRY_LISTS, EntryError, EntryWarning
+from femcore.topology import MeshTopologyError
 from fibreshell.case_reading import CaseError, _Where
 
 __all__ = ["LocatedModel"]
@@ -24,11 +25,21 @@ class LocatedModel:
     written at ``where``. ``compile()`` compiles the model; a ``femcore.entry_error.EntryError``
     becomes a CaseError at the table of the entry it names, and an ``EntryWarning`` (a body
     that starts overlapping a tool) a UserWarning that names that table. The entries
-    ``model`` holds when given are noted as written at ``written_at`` (None: nowhere).
+    ``model`` holds when given are noted as written at ``written_at`` (None: nowhere). A mesh
+    that no shell can use (femcore.topology.MeshTopologyError: triangles facing opposite ways,
+    duplicate nodes, ...) becomes a CaseError at ``mesh_at`` (the ``[mesh]`` table), naming
+    ``mesh_file`` (its ``file``, None for a generated mesh).
     """
 
-    def __init__(self, model: Model, written_at: _Where | None = None) -> None:
+    def __init__(
+        self,
+        model: Model,
+        written_at: _Where | None = None,
+        mesh_at: _Where | None = None,
+        mesh_file: str | None = None,
+    ) -> None:
         self.model = model
+        self.mesh_at, self.mesh_file = mesh_at, mesh_file
         self.places: dict[str, list[_Where]] = {kind: [] for kind in ENTRY_LISTS}
         if written_at is not None:  # the entries ``model`` has already (a layup's plies)
             for kind, name in ENTRY_LISTS.items():
@@ -59,6 +70,12 @@ class LocatedModel:
                 if error.index >= len(places):  # added outside ``at``: nothing to name
                     raise
                 raise places[error.index].error(None, error.reason) from None
+            except MeshTopologyError as error:
+                if self.mesh_at is None:
+                    raise
+                if self.mesh_file is None:
+                    raise self.mesh_at.error(None, f"the mesh: {error}") from None
+                raise self.mesh_at.error("file", f"{self.mesh_file}: {error}") from None
         for warning in said:  # said again, those about an entry at its table
             message = warning.message
             if isinstance(message, EntryWarning) and message.index < len(self.places[message.kind]):

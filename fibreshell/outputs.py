@@ -32,7 +32,8 @@ __all__ = [
 DEFAULT_CHECKPOINT = "checkpoint.pkl"
 # The files of a run's folder by name (the frames are FRAME_FILE).
 RUN_FILES = ("result.pvd", "history.csv", "energies.csv", "summary.json")
-# A frame of the series: result_0000.vtu (Result.write), result_00000.vtu (a streamed series).
+# A frame of the series: result_00000.vtu (Result.write and a streamed series alike; 4 digits
+# in folders written before).
 FRAME_FILE = re.compile(r"result_[0-9]{4,}\.vtu")
 # A sweep's record of a variant, in the variant's run folder (fibreshell.sweep.run_variant).
 VARIANT_FILE = "variant.json"

@@ -26,6 +26,7 @@ from fibreshell.case_reading import _Where
 from fibreshell.folder_lock import folder_lock, refuse_if_held
 from fibreshell.layup_summary import PENETRATION_SHARE, layup_summary
 from fibreshell.outputs import DEFAULT_CHECKPOINT, checkpoint_collision, clean_run
+from fibreshell.tilt_flag import say_tilted, tilted_directors
 from solvers import Interrupted, SolverError
 from solvers.common import SettingError
 from solvers.output import ENERGY_KEYS, CheckpointMismatch
@@ -685,6 +686,10 @@ def summarise(
             if np.isfinite(tilt).any()
             else {"min": None, "max": None}
         )
+    tilted = tilted_directors(point, held)  # past the thickness guard's tilt, or at its cap
+    if tilted is not None:
+        out["tilted_directors"] = tilted
+        say_tilted(tilted)
     if case.layup is not None:  # per ply: angle, shear, displacement, slip over the one below
         out["layup"] = layup_summary(case.layup, case.mesh.points, final)
         _say_penetrations(out["layup"]["penetration"])

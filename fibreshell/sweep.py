@@ -272,6 +272,8 @@ def summary_row(summary: dict) -> dict[str, Any]:
     if "director_tilt_deg" in summary:
         row["director_tilt_min_deg"] = summary["director_tilt_deg"]["min"]
         row["director_tilt_max_deg"] = summary["director_tilt_deg"]["max"]
+        # the nodes past the thickness guard's tilt or at its cap (fibreshell/tilt_flag.py)
+        row["tilted_directors"] = summary.get("tilted_directors", {}).get("nodes", 0)
     for name, profile in summary.get("paths", {}).items():
         angle = np.asarray(profile["director_angle_deg"], dtype=float)
         row[f"path_{name}_director_angle_min_deg"] = float(np.nanmin(angle))
@@ -515,7 +517,8 @@ def sweep(
                 check_run_options(**options)  # a calibration its kinematics would ignore
                 check_kinematics(built, options.get("kinematics"))  # no part of that shell
             except (CaseError, ValueError) as error:
-                row.update(converged=False, error=f"{type(error).__name__}: {error}")
+                # refused before it ran: no folder of its own to name
+                row.update(folder="", converged=False, error=f"{type(error).__name__}: {error}")
                 errors.append(str(error))
                 continue
             tasks.append((data, str(path), overrides, str(folder / label) if folder else None))
@@ -534,6 +537,8 @@ def sweep(
             else:
                 rows[i].update(result[0])
                 table.summaries[i] = result[1]
+            if folder is not None and not (folder / rows[i]["folder"]).is_dir():
+                rows[i]["folder"] = ""  # it failed before its folder was made
             if folder is not None:
                 table.write_csv(folder / "sweep.csv")
 

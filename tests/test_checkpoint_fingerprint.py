@@ -164,7 +164,7 @@ def test_every_part_of_a_model_counts_in_its_fingerprint():
     shifted.gravity((0.0, 0.0, -9810.0), amplitude=ramp(1.0))
     shifted.contact(RigidPlane((0.0, 0.0, -500.0), (0.0, 0.0, 1.0)))
     assert base.differences(fingerprint(shifted.compile())) == [
-        "its mesh differ (node coordinates)"
+        "its mesh differs (node coordinates)"
     ]
     held = cable()
     held.fix([1], "uy")

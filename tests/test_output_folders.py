@@ -105,7 +105,7 @@ def test_a_failed_write_of_result_write_names_the_file_and_the_frames_written(
 
     failing_on_call(monkeypatch, meshio.Mesh, "write", 2, errno.EACCES)
     with pytest.raises(OutputError, match="Permission denied; stopped, kept: the frame files "
-                       "result_0000.vtu$"):  # fmt: skip
+                       "result_00000.vtu$"):  # fmt: skip
         hanging_result().write(tmp_path / "result.pvd")
 
 

@@ -203,6 +203,8 @@ def test_a_failed_variant_is_a_row_with_its_error_and_the_others_run(paired_swee
     # The stopped variant kept its last good state on disk.
     assert (out / "variant-004" / "summary.json").is_file()
     assert not (out / "variant-003").exists()
+    # sweep.csv names the folder of a variant that has one, none for one refused before it
+    assert refused["folder"] == "" and stopped["folder"] == "variant-004"
 
 
 @pytest.mark.waits  # on a LocalCluster

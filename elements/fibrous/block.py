@@ -15,6 +15,7 @@ import numpy as np
 
 from elements import kernels as node_kernels
 from elements.base import ElementBlock
+from elements.fibre_directions import fibre_components, fibre_directions
 from elements.fibrous import (
     bending,
     geometry,
@@ -156,6 +157,8 @@ class FibrousShellBlock(ElementBlock):
         self.shear_sign = shear_orientation(
             mesh.points, self.connectivity, self.xi_is_warp, shell.warp, compiled=self.compiled
         )
+        # the warp and weft on the reference edges, for the output's fibre directions
+        self.fibre_components = fibre_components(mesh.points, self.connectivity, shell.warp)
 
         topology = build_topology(self.connectivity)
         self.neighbour = np.asarray(topology.neighbour)
@@ -561,7 +564,17 @@ class FibrousShellBlock(ElementBlock):
             "membrane_force": np.column_stack([t_warp, t_weft, shear]),  # N/mm
             # no twisting moment in the fibrous shell: M12 = 0
             "bending_moment": np.column_stack([m_warp, m_weft, np.zeros_like(m_warp)]),
+            # the deformed fibres (unit, global axes): what "11" and "22" are taken along
+            **self._fibre_directions(state),
         }
+
+    def _fibre_directions(self, state: State) -> dict[str, np.ndarray]:
+        """warp_direction and weft_direction (m, 3) (elements/fibre_directions.py); none for
+        a block pickled before it kept their components (a checkpoint of an earlier run)."""
+        components = getattr(self, "fibre_components", None)
+        if components is None:
+            return {}
+        return fibre_directions(state.positions, self.connectivity, components)
 
     def node_fields(self, state: State, history=None) -> dict[str, np.ndarray]:
         if self.compiled and self.nodal_normals:  # from the compiled normal sums
