@@ -43,6 +43,7 @@ from femcore.model import CompiledModel, Model
 from femcore.results import Frame, Result
 from femcore.rotation import drop_along
 from femcore.state import State
+from solvers.acceptance import invalid_state
 from solvers.augmentation import warn_penalty_only
 from solvers.blas_threads import one_blas_thread
 from solvers.common import (
@@ -68,6 +69,7 @@ from solvers.force_floor import round_off_force, unloaded_floor
 from solvers.interrupts import STOP, Interrupted, check_outputs, keeps_writes
 from solvers.output import checkpoint_path, resume, save_checkpoint
 from solvers.progress import relaxed_share
+from solvers.relaxation_cuts import InvalidState, relax_in_halves
 from solvers.step import advance, angular_rates
 
 __all__ = ["DAMPING_KINDS", "MASS_KINDS", "PLATEAU_FACTOR", "DynamicRelaxation"]
@@ -326,23 +328,21 @@ class DynamicRelaxation:
     ) -> Result:
         """Relax the increments after the ``done`` ones of ``solve``, saving each; the force
         reference never below ``rounding`` (N, solvers.force_floor)."""
+        cuts = 0  # halvings of increments whose relaxed state was not valid (relaxation_cuts)
         for increment in range(done + 1, self.increments + 1):
             load_factor = first + (1.0 - first) * increment / self.increments
-            state = replace(state, load_factor=load_factor, time=load_factor)
             try:
                 # A blow-up is detected and recovered from (or reported) by the relaxation
                 # itself; numpy's overflow warnings on the way would only be noise.
                 with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
-                    state, count, ratio, reactions, reaction_moments = self._relax(
-                        compiled,
-                        state,
-                        load_factor,
-                        masses,
-                        progress,
-                        increment,
-                        max(rounding, unloaded := _reference_floor(compiled, frames[-1])),
-                        unloaded,
+                    unloaded = _reference_floor(compiled, frames[-1])
+                    relax = partial(self._relax, compiled, masses=masses, progress=progress,
+                                    increment=increment, floor=max(rounding, unloaded),
+                                    unloaded=unloaded)  # fmt: skip
+                    (state, count, ratio, reactions, reaction_moments), cut = relax_in_halves(
+                        relax, state, frames[-1].load_factor, load_factor, increment
                     )
+                    cuts += cut
             except (ConvergenceError, DivergenceError, Interrupted) as error:
                 if isinstance(error, Interrupted):
                     error.checkpoint = saved_at if increment > 1 else None  # saved after each
@@ -376,7 +376,9 @@ class DynamicRelaxation:
                 f"increment {increment}/{self.increments} converged in {count} iterations",
                 fraction=increment / self.increments,
             )
-        return self._result(compiled, frames, iterations, residuals, masses, started, True)
+        result = self._result(compiled, frames, iterations, residuals, masses, started, True)
+        result.info["cuts"] = cuts
+        return result
 
     def _result(self, compiled, frames, iterations, residuals, masses, started, converged):
         result = empty_result(compiled, frames)
@@ -471,6 +473,8 @@ class DynamicRelaxation:
                     None,
                     steps=iteration,
                 )
+            if ok and (reason := invalid_state(model, state, load_factor)):
+                raise InvalidState(reason, iteration)  # not converged (solvers.acceptance)
             if ok:
                 _warn_below_floor(balance.test, floor, self.tol, load_factor, unloaded)
                 reactions, reaction_moments = balance.reactions(state, f_int, m_int, moment)
