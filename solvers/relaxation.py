@@ -43,7 +43,7 @@ from femcore.model import CompiledModel, Model
 from femcore.results import Frame, Result
 from femcore.rotation import drop_along
 from femcore.state import State
-from solvers.acceptance import invalid_state
+from solvers.acceptance import invalid_state, within_reach
 from solvers.augmentation import warn_penalty_only
 from solvers.blas_threads import one_blas_thread
 from solvers.common import (
@@ -69,7 +69,8 @@ from solvers.force_floor import round_off_force, unloaded_floor
 from solvers.interrupts import STOP, Interrupted, check_outputs, keeps_writes
 from solvers.output import checkpoint_path, resume, save_checkpoint
 from solvers.progress import relaxed_share
-from solvers.relaxation_cuts import InvalidState, relax_in_halves
+from solvers.relaxation_cuts import InvalidState, more_increments, relax_in_halves
+from solvers.relaxation_watch import PLATEAU_FACTOR, Plateau
 from solvers.step import advance, angular_rates
 
 __all__ = ["DAMPING_KINDS", "MASS_KINDS", "PLATEAU_FACTOR", "DynamicRelaxation"]
@@ -449,7 +450,8 @@ class DynamicRelaxation:
         size_of_model = float(np.ptp(model.reference_positions, axis=0).max())
         first_size = None  # ||r|| + ||m|| / L_e at the first iteration (N)
         high_since = 1  # the first iteration of the current run of ratios above 0.5
-        plateau = _Plateau(self.plateau_iterations)
+        plateau = Plateau(self.plateau_iterations)
+        stays = partial(within_reach, start_positions, size_of_model)
 
         for iteration in range(1, self.max_iterations + 1):
             if STOP.signal is not None:  # SIGINT or SIGTERM inside interruptible()
@@ -496,14 +498,13 @@ class DynamicRelaxation:
             size = float(np.linalg.norm(residual)) + (
                 float(np.linalg.norm(moment)) / model.element_size if any_rot else 0.0
             )
-            if first_size is None:
-                first_size = size
-
-            if masses.fictitious and not size <= _BLOW_UP * first_size:
+            first_size = size if first_size is None else first_size
+            if masses.fictitious and not (size <= _BLOW_UP * first_size and stays(state)):
                 # The stiffness grew past the estimate the masses were made for (the motion
-                # turned a stiff direction onto a DOF with a soft row): go back to the last
-                # state at rest and restart with masses estimated there, heavier if the last
-                # recovery already restarted from that state.
+                # turned a stiff direction onto a DOF with a soft row; or the nodes flew off,
+                # the fibres' force past its peak keeping the out-of-balance small): go back to
+                # the last state at rest, restart with masses estimated there, heavier if the
+                # last recovery already restarted from that state.
                 if recovered_to is at_rest:
                     inflate *= 2.0
                 recovered_to = at_rest
@@ -527,7 +528,9 @@ class DynamicRelaxation:
 
             if plateau.stalled(iteration, ratio):
                 raise ConvergenceError(
-                    plateau.message(self, increment, load_factor, ratio), None, steps=iteration
+                    plateau.message(self, model, increment, load_factor, ratio),
+                    None,
+                    steps=iteration,
                 )
             if ratio <= _STALL_RATIO:
                 high_since = iteration + 1
@@ -600,8 +603,8 @@ class DynamicRelaxation:
         raise ConvergenceError(
             f"dynamic relaxation did not converge in increment {increment}/{self.increments} "
             f"(load factor {load_factor:.4g}) within {self.max_iterations} iterations: residual "
-            f"ratio {ratio:.3g}, tolerance {self.tol:g}. Raise max_iterations, use more "
-            "increments, or try the other damping ("
+            f"ratio {ratio:.3g}, tolerance {self.tol:g}. Raise max_iterations, "
+            f"{more_increments(model)}or try the other damping ("
             f"{'kinetic' if self.damping == 'viscous' else 'viscous'}).",
             None,
             steps=self.max_iterations,
@@ -657,41 +660,6 @@ def _interrupted(error: Interrupted, increment: int, increments: int, saved_at) 
         f"dynamic relaxation interrupted by {error.signal} in increment {increment}/"
         f"{increments} ({error.args[0]}); {kept}"
     )
-
-
-#: The factor by which the smallest residual ratio must fall in plateau_iterations.
-PLATEAU_FACTOR = 0.9
-
-
-class _Plateau:
-    """The progress watch of one increment: stalled when the smallest residual ratio met has
-    not fallen to PLATEAU_FACTOR of what it was ``window`` iterations before (None: never)."""
-
-    def __init__(self, window: int | None):
-        self.window = window
-        self.best = math.inf  # the smallest ratio met
-        self.then = math.inf  # the smallest ratio met at the last check (the first ratio)
-
-    def stalled(self, iteration: int, ratio: float) -> bool:
-        if ratio < self.best:
-            self.best = ratio
-            if iteration == 1:
-                self.then = ratio
-        if self.window is None or iteration % self.window:
-            return False
-        stalled = not self.best <= PLATEAU_FACTOR * self.then
-        self.then = self.best
-        return stalled
-
-    def message(self, solver, increment: int, load_factor: float, ratio: float) -> str:
-        return (
-            f"dynamic relaxation stalled in increment {increment}/{solver.increments} (load "
-            f"factor {load_factor:.4g}): the smallest residual ratio ({self.best:.3g}, now "
-            f"{ratio:.3g}, tolerance {solver.tol:g}) did not fall below {PLATEAU_FACTOR:g} of "
-            f"what it was in the last {self.window} iterations (plateau_iterations). Check "
-            "what holds the model (supports, contact), use more increments, a looser tol, or "
-            f"the other damping ({'kinetic' if solver.damping == 'viscous' else 'viscous'})"
-        )
 
 
 def _stall_message(model: CompiledModel, increment: int, solver, load_factor: float) -> str:

@@ -21,10 +21,13 @@ from collections.abc import Callable
 from dataclasses import replace
 from typing import Any
 
+import numpy as np
+
+from femcore.model import CompiledModel
 from femcore.state import State
 from solvers.common import DivergenceError
 
-__all__ = ["CUTS", "InvalidState", "relax_in_halves"]
+__all__ = ["CUTS", "InvalidState", "more_increments", "relax_in_halves"]
 
 #: The most halvings of one increment (its smallest part 1/2^CUTS of it).
 CUTS = 8
@@ -103,3 +106,20 @@ def relax_in_halves(
         reached = aims.pop()
         if not aims:
             return (state, spent, *out[2:]), cuts
+
+
+def more_increments(model: CompiledModel) -> str:
+    """ "use more increments, " where more increments would make each one's change smaller:
+    some load or prescribed displacement of ``model`` ramps with the load factor; "" where
+    none does (gravity and other "step" loads go in full from the first increment of a
+    relaxation, docs/theory.md §6.4: a strip over a cylinder under its weight alone was told
+    to use more increments, and increment 1 carried the whole weight at any count)."""
+    half = model.external_load(0.5, quasi_static=True)
+    full = model.external_load(1.0, quasi_static=True)
+    ramps = any(not np.array_equal(a, b) for a, b in zip(half, full))
+    if model.has_prescribed:
+        ramps = ramps or not np.array_equal(
+            model.prescribed_displacement(0.5, quasi_static=True),
+            model.prescribed_displacement(1.0, quasi_static=True),
+        )
+    return "use more increments, " if ramps else ""
