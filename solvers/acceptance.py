@@ -32,7 +32,7 @@ import numpy as np
 from femcore.model import CompiledModel
 from femcore.state import State
 
-__all__ = ["FIBRE_STRAIN", "MIN_AREA", "SPREAD", "invalid_state", "within_reach"]
+__all__ = ["FIBRE_STRAIN", "MIN_AREA", "SPREAD", "invalid_state"]
 
 #: The largest fibre strain |ln(lambda)| of an accepted state (lambda = e, the force's peak).
 FIBRE_STRAIN = 1.0
@@ -103,14 +103,6 @@ def invalid_state(model: CompiledModel, state: State, load_factor: float) -> str
                 "the tension law's force peaks)"
             )
     return None
-
-
-def within_reach(start: np.ndarray, size: float, state: State) -> bool:
-    """Whether every node of ``state`` is within SPREAD x ``size`` (mm, the model's) of where
-    it was at ``start`` (n, 3) mm: a relaxation whose nodes went farther blew up, even where
-    its out-of-balance stayed small (the fibres' force falls to zero past the stretch of its
-    peak: a strip pushed 0.08 mm under gravity flew to 1e57 mm with a bounded residual)."""
-    return bool(np.abs(state.positions - start).max(initial=0.0) <= SPREAD * size)
 
 
 def _used_nodes(model: CompiledModel) -> np.ndarray:

@@ -567,7 +567,7 @@ def _iterate(
             f"{history[-1]:.3g} (tol {solver.tol:g})"
         )
     raise IncrementFailed(
-        iterations_spent(history, solver.tol, allowed)
+        iterations_spent(history, solver.tol, allowed, bool(model.interactions) and not frozen)
         + (f"; the tangent was singular: {mechanism(model)}" if singular else "")
     )
 

@@ -43,7 +43,7 @@ from femcore.model import CompiledModel, Model
 from femcore.results import Frame, Result
 from femcore.rotation import drop_along
 from femcore.state import State
-from solvers.acceptance import invalid_state, within_reach
+from solvers.acceptance import invalid_state
 from solvers.augmentation import warn_penalty_only
 from solvers.blas_threads import one_blas_thread
 from solvers.common import (
@@ -451,7 +451,6 @@ class DynamicRelaxation:
         first_size = None  # ||r|| + ||m|| / L_e at the first iteration (N)
         high_since = 1  # the first iteration of the current run of ratios above 0.5
         plateau = Plateau(self.plateau_iterations)
-        stays = partial(within_reach, start_positions, size_of_model)
 
         for iteration in range(1, self.max_iterations + 1):
             if STOP.signal is not None:  # SIGINT or SIGTERM inside interruptible()
@@ -498,13 +497,14 @@ class DynamicRelaxation:
             size = float(np.linalg.norm(residual)) + (
                 float(np.linalg.norm(moment)) / model.element_size if any_rot else 0.0
             )
-            first_size = size if first_size is None else first_size
-            if masses.fictitious and not (size <= _BLOW_UP * first_size and stays(state)):
+            if first_size is None:
+                first_size = size
+
+            if masses.fictitious and not size <= _BLOW_UP * first_size:
                 # The stiffness grew past the estimate the masses were made for (the motion
-                # turned a stiff direction onto a DOF with a soft row; or the nodes flew off,
-                # the fibres' force past its peak keeping the out-of-balance small): go back to
-                # the last state at rest, restart with masses estimated there, heavier if the
-                # last recovery already restarted from that state.
+                # turned a stiff direction onto a DOF with a soft row): go back to the last
+                # state at rest and restart with masses estimated there, heavier if the last
+                # recovery already restarted from that state.
                 if recovered_to is at_rest:
                     inflate *= 2.0
                 recovered_to = at_rest

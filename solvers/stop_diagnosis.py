@@ -252,15 +252,27 @@ RECENT = 10
 NEAR_TOL = 1e3
 
 
-def iterations_spent(history: list[float], tol: float, allowed: int) -> str:
+def iterations_spent(
+    history: list[float], tol: float, allowed: int, searching: bool = False
+) -> str:
     """What an increment that ran out of Newton iterations says: "residual ratio r after N
     iterations (tol t)" and, from its ratios ``history``, what would help: where they were
     still falling (the last RECENT halved it), a larger max_iterations; where they stalled
     within NEAR_TOL of ``tol``, the round-off of the forces at the model's stiffness (a stiff
     penalty): a looser tol (a table's plane at penalty 10 stopped at 5.7e-7 with tol 1e-8, and
-    converged in 3 iterations with 1e-6)."""
+    converged in 3 iterations with 1e-6). ``searching``: the attempt ended on the unilateral
+    contact law (its frozen sets found wrong solvers.newton.MAX_CONTACT_UPDATES times, or
+    never frozen), whose sets change as it iterates: a lift-off front moves about a node per
+    iteration, and a strip on a table at the automatic penalty ran out at 50 (ratio 0.993)
+    where it needs 61 (every cut of it too): a larger max_iterations may help."""
     ratio = history[-1]
     said = f"residual ratio {ratio:.3g} after {allowed} iterations (tol {tol:g})"
+    if searching and ratio > NEAR_TOL * tol:
+        return said + (
+            ", on the unilateral contact law, whose sets may still have been changing (a "
+            "lift-off front moves about a node per iteration, and no cut shortens that): "
+            f"raise max_iterations (it was {allowed})"
+        )
     if len(history) <= RECENT:
         return said
     before = history[-RECENT - 1]

@@ -32,3 +32,14 @@ def test_a_ratio_stalled_far_above_the_tolerance_gets_no_remedy_here():
     # nor one ahead of the contacts' and the limit point's hints (stop_hint) that follow it
     stalled = [0.993] * (RECENT + 5)
     assert iterations_spent(stalled, 1e-8, 50).endswith("(tol 1e-08)")
+
+
+def test_an_attempt_still_searching_its_contact_sets_names_max_iterations():
+    # The table strip at the automatic penalty: three frozen sets found wrong, then the
+    # unilateral law's lift-off front moving a node per iteration, the ratio near 1 when the
+    # 50 iterations ran out (it converges at 61); cuts do not shorten the search.
+    searching = [1.0, 1.4e-5, 1.0, 1.9e-7] + [0.99] * 46
+    said = iterations_spent(searching, 1e-8, 50, searching=True)
+    assert "unilateral contact law, whose sets may still have been changing" in said
+    assert said.endswith("raise max_iterations (it was 50)")
+    assert "unilateral" not in iterations_spent(searching, 1e-8, 50)
