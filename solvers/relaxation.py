@@ -330,6 +330,7 @@ class DynamicRelaxation:
         """Relax the increments after the ``done`` ones of ``solve``, saving each; the force
         reference never below ``rounding`` (N, solvers.force_floor)."""
         cuts = 0  # halvings of increments whose relaxed state was not valid (relaxation_cuts)
+        ramps = bool(more_increments(compiled))  # (halving a step load changes nothing)
         for increment in range(done + 1, self.increments + 1):
             load_factor = first + (1.0 - first) * increment / self.increments
             try:
@@ -341,7 +342,7 @@ class DynamicRelaxation:
                                     increment=increment, floor=max(rounding, unloaded),
                                     unloaded=unloaded)  # fmt: skip
                     (state, count, ratio, reactions, reaction_moments), cut = relax_in_halves(
-                        relax, state, frames[-1].load_factor, load_factor, increment
+                        relax, state, frames[-1].load_factor, load_factor, increment, ramps
                     )
                     cuts += cut
             except (ConvergenceError, DivergenceError, Interrupted) as error:

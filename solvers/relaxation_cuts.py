@@ -47,6 +47,7 @@ def relax_in_halves(
     start: float,
     target: float,
     increment: int,
+    ramps: bool = True,
 ) -> tuple[tuple[State, int, float, Any, Any], int]:
     """Relax from ``state`` (at load factor ``start``) to ``target``, halving what is left
     where a relaxation fails.
@@ -63,6 +64,10 @@ def relax_in_halves(
         Load factors.
     increment : int
         The increment's number (for the message).
+    ramps : bool
+        Whether some load or prescribed displacement ramps with the load factor
+        (``more_increments``); where none does, a part of the increment is the same problem
+        as the whole, and the first failure is the DivergenceError.
 
     Returns
     -------
@@ -88,13 +93,18 @@ def relax_in_halves(
                 "a cell lost its area in the motion" if isinstance(error, ZeroDivisionError)
                 else f"the relaxed state is not valid: {error}"
             )  # fmt: skip
-            if (aim - reached) <= (target - start) / 2**CUTS:
+            if not ramps or (aim - reached) <= (target - start) / 2**CUTS:
+                parts = (
+                    f", even in parts of 1/{2**CUTS:d} of the increment from load factor "
+                    f"{reached:.4g}" if ramps
+                    else " (nothing in the model ramps with the load factor: its loads are "
+                    "'step' loads, so halving the increment changes nothing)"
+                )  # fmt: skip
                 raise DivergenceError(
                     f"dynamic relaxation failed in increment {increment} at load factor "
-                    f"{aim:.4g} ({cause}), even in parts of 1/{2**CUTS:d} of the increment "
-                    f"from load factor {reached:.4g}: a load or motion the model cannot follow "
+                    f"{aim:.4g} ({cause}){parts}: a load or motion the model cannot follow "
                     "(its equilibrium left the laws' range), or one that needs a path: try "
-                    "Static, or more increments",
+                    f"Static{', or more increments' if ramps else ''}",
                     None,
                     steps=spent,
                 ) from (error if isinstance(error, ZeroDivisionError) else None)

@@ -120,6 +120,23 @@ def test_an_increment_that_fails_in_its_smallest_parts_is_a_divergence():
     assert f"1/{2**CUTS}" in str(stop.value)
 
 
+def test_a_model_whose_loads_do_not_ramp_is_not_halved():
+    # Gravity and other "step" loads go in full at any load factor of a relaxation: a part of
+    # the increment is the same problem as the whole, so the first failure is the stop.
+    calls = []
+
+    def relax(state, level):
+        calls.append(level)
+        raise InvalidState("cells 3 are turned inside out", 5)
+
+    _, model = sheet()
+    start = model.compile().initial_state()
+    with pytest.raises(DivergenceError, match="'step' loads") as stop:
+        relax_in_halves(relax, start, 0.0, 1.0, 1, ramps=False)
+    assert calls == [1.0] and stop.value.steps == 5
+    assert "more increments" not in str(stop.value)
+
+
 def picture_frame(law, angle):
     """The SIDE x SIDE picture frame sheared to ``angle`` (rad) by pulling its far corner along
     the diagonal, edges held out of plane, the origin corner fixed; the frame force's closed
