@@ -338,9 +338,13 @@ class DynamicRelaxation:
                 # itself; numpy's overflow warnings on the way would only be noise.
                 with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
                     unloaded = _reference_floor(compiled, frames[-1])
-                    relax = partial(self._relax, compiled, masses=masses, progress=progress,
-                                    increment=increment, floor=max(rounding, unloaded),
-                                    unloaded=unloaded)  # fmt: skip
+                    floor = max(rounding, unloaded)
+
+                    def relax(at, level, increment=increment, floor=floor, unloaded=unloaded):
+                        return self._relax(
+                            compiled, at, level, masses, progress, increment, floor, unloaded
+                        )
+
                     (state, count, ratio, reactions, reaction_moments), cut = relax_in_halves(
                         relax, state, frames[-1].load_factor, load_factor, increment, ramps
                     )
