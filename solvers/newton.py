@@ -120,6 +120,7 @@ from solvers.round_off import RoundOffFloor
 from solvers.saddles import judged
 from solvers.stabilisation import Dashpots
 from solvers.stability import downhill, lowest_modes
+from solvers.stop_diagnosis import iterations_spent
 
 if TYPE_CHECKING:
     from solvers.static import StaticRun
@@ -566,7 +567,7 @@ def _iterate(
             f"{history[-1]:.3g} (tol {solver.tol:g})"
         )
     raise IncrementFailed(
-        f"residual ratio {history[-1]:.3g} after {allowed} iterations"
+        iterations_spent(history, solver.tol, allowed, bool(model.interactions) and not frozen)
         + (f"; the tangent was singular: {mechanism(model)}" if singular else "")
     )
 

@@ -43,6 +43,7 @@ from femcore.model import CompiledModel, Model
 from femcore.results import Frame, Result
 from femcore.rotation import drop_along
 from femcore.state import State
+from solvers.acceptance import invalid_state
 from solvers.augmentation import warn_penalty_only
 from solvers.blas_threads import one_blas_thread
 from solvers.common import (
@@ -68,6 +69,8 @@ from solvers.force_floor import round_off_force, unloaded_floor
 from solvers.interrupts import STOP, Interrupted, check_outputs, keeps_writes
 from solvers.output import checkpoint_path, resume, save_checkpoint
 from solvers.progress import relaxed_share
+from solvers.relaxation_cuts import InvalidState, more_increments, relax_in_halves
+from solvers.relaxation_watch import PLATEAU_FACTOR, Plateau
 from solvers.step import advance, angular_rates
 from solvers.tool_penetration import record_tool_penetration
 
@@ -328,23 +331,26 @@ class DynamicRelaxation:
     ) -> Result:
         """Relax the increments after the ``done`` ones of ``solve``, saving each; the force
         reference never below ``rounding`` (N, solvers.force_floor)."""
+        cuts = 0  # halvings of increments whose relaxed state was not valid (relaxation_cuts)
+        ramps = bool(more_increments(compiled))  # (halving a step load changes nothing)
         for increment in range(done + 1, self.increments + 1):
             load_factor = first + (1.0 - first) * increment / self.increments
-            state = replace(state, load_factor=load_factor, time=load_factor)
             try:
                 # A blow-up is detected and recovered from (or reported) by the relaxation
                 # itself; numpy's overflow warnings on the way would only be noise.
                 with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
-                    state, count, ratio, reactions, reaction_moments = self._relax(
-                        compiled,
-                        state,
-                        load_factor,
-                        masses,
-                        progress,
-                        increment,
-                        max(rounding, unloaded := _reference_floor(compiled, frames[-1])),
-                        unloaded,
+                    unloaded = _reference_floor(compiled, frames[-1])
+                    floor = max(rounding, unloaded)
+
+                    def relax(at, level, increment=increment, floor=floor, unloaded=unloaded):
+                        return self._relax(
+                            compiled, at, level, masses, progress, increment, floor, unloaded
+                        )
+
+                    (state, count, ratio, reactions, reaction_moments), cut = relax_in_halves(
+                        relax, state, frames[-1].load_factor, load_factor, increment, ramps
                     )
+                    cuts += cut
             except (ConvergenceError, DivergenceError, Interrupted) as error:
                 if isinstance(error, Interrupted):
                     error.checkpoint = saved_at if increment > 1 else None  # saved after each
@@ -378,7 +384,9 @@ class DynamicRelaxation:
                 f"increment {increment}/{self.increments} converged in {count} iterations",
                 fraction=increment / self.increments,
             )
-        return self._result(compiled, frames, iterations, residuals, masses, started, True)
+        result = self._result(compiled, frames, iterations, residuals, masses, started, True)
+        result.info["cuts"] = cuts
+        return result
 
     def _result(self, compiled, frames, iterations, residuals, masses, started, converged):
         result = empty_result(compiled, frames)
@@ -450,7 +458,7 @@ class DynamicRelaxation:
         size_of_model = float(np.ptp(model.reference_positions, axis=0).max())
         first_size = None  # ||r|| + ||m|| / L_e at the first iteration (N)
         high_since = 1  # the first iteration of the current run of ratios above 0.5
-        plateau = _Plateau(self.plateau_iterations)
+        plateau = Plateau(self.plateau_iterations)
 
         for iteration in range(1, self.max_iterations + 1):
             if STOP.signal is not None:  # SIGINT or SIGTERM inside interruptible()
@@ -474,6 +482,8 @@ class DynamicRelaxation:
                     None,
                     steps=iteration,
                 )
+            if ok and (reason := invalid_state(model, state, load_factor)):
+                raise InvalidState(reason, iteration)  # not converged (solvers.acceptance)
             if ok:
                 _warn_below_floor(balance.test, floor, self.tol, load_factor, unloaded)
                 reactions, reaction_moments = balance.reactions(state, f_int, m_int, moment)
@@ -526,7 +536,9 @@ class DynamicRelaxation:
 
             if plateau.stalled(iteration, ratio):
                 raise ConvergenceError(
-                    plateau.message(self, increment, load_factor, ratio), None, steps=iteration
+                    plateau.message(self, model, increment, load_factor, ratio),
+                    None,
+                    steps=iteration,
                 )
             if ratio <= _STALL_RATIO:
                 high_since = iteration + 1
@@ -602,8 +614,8 @@ class DynamicRelaxation:
         raise ConvergenceError(
             f"dynamic relaxation did not converge in increment {increment}/{self.increments} "
             f"(load factor {load_factor:.4g}) within {self.max_iterations} iterations: residual "
-            f"ratio {ratio:.3g}, tolerance {self.tol:g}. Raise max_iterations, use more "
-            "increments, or try the other damping ("
+            f"ratio {ratio:.3g}, tolerance {self.tol:g}. Raise max_iterations, "
+            f"{more_increments(model)}or try the other damping ("
             f"{'kinetic' if self.damping == 'viscous' else 'viscous'}).",
             None,
             steps=self.max_iterations,
@@ -659,41 +671,6 @@ def _interrupted(error: Interrupted, increment: int, increments: int, saved_at) 
         f"dynamic relaxation interrupted by {error.signal} in increment {increment}/"
         f"{increments} ({error.args[0]}); {kept}"
     )
-
-
-#: The factor by which the smallest residual ratio must fall in plateau_iterations.
-PLATEAU_FACTOR = 0.9
-
-
-class _Plateau:
-    """The progress watch of one increment: stalled when the smallest residual ratio met has
-    not fallen to PLATEAU_FACTOR of what it was ``window`` iterations before (None: never)."""
-
-    def __init__(self, window: int | None):
-        self.window = window
-        self.best = math.inf  # the smallest ratio met
-        self.then = math.inf  # the smallest ratio met at the last check (the first ratio)
-
-    def stalled(self, iteration: int, ratio: float) -> bool:
-        if ratio < self.best:
-            self.best = ratio
-            if iteration == 1:
-                self.then = ratio
-        if self.window is None or iteration % self.window:
-            return False
-        stalled = not self.best <= PLATEAU_FACTOR * self.then
-        self.then = self.best
-        return stalled
-
-    def message(self, solver, increment: int, load_factor: float, ratio: float) -> str:
-        return (
-            f"dynamic relaxation stalled in increment {increment}/{solver.increments} (load "
-            f"factor {load_factor:.4g}): the smallest residual ratio ({self.best:.3g}, now "
-            f"{ratio:.3g}, tolerance {solver.tol:g}) did not fall below {PLATEAU_FACTOR:g} of "
-            f"what it was in the last {self.window} iterations (plateau_iterations). Check "
-            "what holds the model (supports, contact), use more increments, a looser tol, or "
-            f"the other damping ({'kinetic' if solver.damping == 'viscous' else 'viscous'})"
-        )
 
 
 def _stall_message(model: CompiledModel, increment: int, solver, load_factor: float) -> str:

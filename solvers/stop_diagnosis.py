@@ -20,6 +20,7 @@ crease's cycle.
 
 from __future__ import annotations
 
+import math
 from typing import Any
 
 import numpy as np
@@ -30,6 +31,7 @@ __all__ = [
     "crossing_cycles",
     "describe_cycles",
     "held_by_friction_alone",
+    "iterations_spent",
     "stop_hint",
 ]
 
@@ -132,11 +134,13 @@ def describe_cycles(model: Any, positions: np.ndarray | None = None) -> str:
 #: first, solvers/stick_start.py) and a body is held by friction alone
 #: (``held_by_friction_alone``: its supports leave free a translation its loads push it
 #: along): it has a static equilibrium only while its pull stays within mu times its press
-#: (Coulomb: it slides otherwise), and pressing it first is the way to that equilibrium that
-#: takes the contact's events one at a time.
+#: (Coulomb: it slides otherwise, and a slide has no static state for Static or a relaxation
+#: to find: a strip pulled past 2 mu F was sent to DynamicRelaxation), and pressing it first
+#: is the way to that equilibrium that takes the contact's events one at a time.
 FRICTION_AT_START = (
     "; a body held by friction alone has no static equilibrium where its pull passes mu "
-    "times its press (it slides: DynamicRelaxation or an explicit run); below it, press it "
+    "times its press: it slides, which no quasi-static solver (Static, DynamicRelaxation) "
+    "can find, and only an explicit run (CentralDifference) follows; below it, press it "
     "first, then pull it (the pressing loads at amplitude 'step' and "
     "Static(step_loads_first=True))"
 )
@@ -165,13 +169,14 @@ def stop_hint(
         # there; smaller increments meet the contact's events one at a time.
         hint = (
             ". The model has interactions (contacts, ties): a contact that closes, opens or "
-            "slides within an increment can stop Newton; try more increments, or "
-            "DynamicRelaxation (path='arc_length' follows a limit point or buckling, not a "
-            "contact's events)"
+            "slides within an increment can stop Newton; try more increments"
         )
         if at_start and not step_loads_first and held_by_friction_alone(model):
-            hint += FRICTION_AT_START
-        return hint
+            return hint + FRICTION_AT_START  # (no relaxation finds a slide's state either)
+        return hint + (
+            ", or DynamicRelaxation (path='arc_length' follows a limit point or buckling, not "
+            "a contact's events)"
+        )
     remedy = (
         "try path='arc_length' to follow a limit point"
         if path == "load"
@@ -240,3 +245,44 @@ def held_by_friction_alone(model: Any) -> bool:
             if np.linalg.norm(free @ net[index]) > 1e-9 * size:
                 return True
     return False
+
+
+#: The iterations over which the residual ratio is judged still falling or stalled.
+RECENT = 10
+#: A ratio this many times the tolerance or less, no longer falling, is the forces' round-off.
+NEAR_TOL = 1e3
+
+
+def iterations_spent(
+    history: list[float], tol: float, allowed: int, searching: bool = False
+) -> str:
+    """What an increment that ran out of Newton iterations says: "residual ratio r after N
+    iterations (tol t)" and, from its ratios ``history``, what would help: where they were
+    still falling (the last RECENT halved it), a larger max_iterations; where they stalled
+    within NEAR_TOL of ``tol``, the round-off of the forces at the model's stiffness (a stiff
+    penalty): a looser tol (a table's plane at penalty 10 stopped at 5.7e-7 with tol 1e-8, and
+    converged in 3 iterations with 1e-6). ``searching``: the attempt ended on the unilateral
+    contact law (its frozen sets found wrong solvers.newton.MAX_CONTACT_UPDATES times, or
+    never frozen), whose sets change as it iterates: a lift-off front moves about a node per
+    iteration, and a strip on a table at the automatic penalty ran out at 50 (ratio 0.993)
+    where it needs 61 (every cut of it too): a larger max_iterations may help."""
+    ratio = history[-1]
+    said = f"residual ratio {ratio:.3g} after {allowed} iterations (tol {tol:g})"
+    if searching and ratio > NEAR_TOL * tol:
+        return said + (
+            ", on the unilateral contact law, whose sets may still have been changing (a "
+            "lift-off front moves about a node per iteration, and no cut shortens that): "
+            f"raise max_iterations (it was {allowed})"
+        )
+    if len(history) <= RECENT:
+        return said
+    before = history[-RECENT - 1]
+    if ratio < 0.5 * before:
+        return said + f", still falling: raise max_iterations (it was {allowed})"
+    if ratio <= NEAR_TOL * tol:
+        return said + (
+            f", no longer falling within {NEAR_TOL:g} times it: the round-off of the forces "
+            f"at this stiffness (a stiff contact penalty?); a looser tol, e.g. "
+            f"{10.0 ** math.ceil(math.log10(ratio)):g}, or a softer penalty"
+        )
+    return said

@@ -89,3 +89,12 @@ def test_a_ply_pulled_on_a_held_ply_is_held_by_friction_alone_unless_it_is_held_
         if held:
             model.fix([int(top[0])], ["ux", "uy", "uz"])
         assert held_by_friction_alone(model.compile()) is not held
+
+
+def test_a_body_held_by_friction_alone_is_not_sent_to_a_quasi_static_solver():
+    # A strip pulled past 2 mu F slides: no static state exists for DynamicRelaxation to find
+    # either (the hint sent the user there); only an explicit run follows the slide.
+    model = _plate_on_a_rough_floor(clamped=False).compile()
+    hint = stop_hint(model, None, "load", at_start=True)
+    assert "DynamicRelaxation (" not in hint and "or DynamicRelaxation" not in hint
+    assert "only an explicit run (CentralDifference)" in hint
