@@ -19,12 +19,15 @@ import json
 
 import numpy as np
 import pytest
+import scipy.sparse as sp
 
 from elements import FibrousShell
 from femcore import Mesh, Model
 from fibreshell.cli import main
 from materials import Fabric
 from solvers import Static
+from solvers.linear import LinearSolver
+from solvers.neutral_modes import judge_pivots, unstable_modes
 
 LENGTH, WIDTH, WARP = 40.0, 10.0, 1200.0  # mm, mm, N/mm
 STRETCH = 1.05
@@ -113,3 +116,26 @@ def test_the_case_file_s_summary_reports_the_strip_flat(tmp_path, increments):
     assert summary["status"] == "done"
     assert summary["director_tilt_deg"]["max"] < np.degrees(TILT)
     assert -summary["reactions"]["left"][0] == pytest.approx(REACTION, rel=1e-9)
+
+
+def test_a_pivot_within_round_off_of_zero_is_neutral_and_one_beyond_it_negative():
+    # K = Q diag(lambda) Q^T, its spectrum set by construction: 1e2 .. 1e3 and two negative
+    # eigenvalues, -1e-12 (a zero mode's rounding) and -1e-7 (an instability). Q turns each
+    # pair of unknowns by 45 deg, so each mode moves two unknowns whose diagonal is the mean
+    # of the pair's eigenvalues, 60 and 130: the rounding of the second variation,
+    # ROUND_OFF sum phi^2 |K_ii|, is 1.4e-11 and 2.9e-11, above the first and 3e3 times
+    # below the second. Both are negative pivots of K's LDL^T (Sylvester); only the second
+    # is a negative mode.
+    n = 40
+    values = np.geomspace(1e2, 1e3, n)
+    values[[5, 17]] = [-1e-12, -1e-7]
+    turn = np.sqrt(0.5) * np.array([[1.0, -1.0], [1.0, 1.0]])
+    rotation = sp.block_diag([turn] * (n // 2), format="csc")
+    k = (rotation @ sp.diags(values) @ rotation.T).tocsc()
+    factor = LinearSolver().factorise(k)
+    assert factor.negative == 2
+    judged = judge_pivots(LinearSolver(), k, factor)
+    assert (judged.negative, judged.neutral) == (1, 1)
+    found, modes = np.linalg.eigh(k.toarray())
+    kept, _ = unstable_modes(k, (found[:2], modes[:, :2]))
+    assert kept == pytest.approx([-1e-7], rel=1e-6)
