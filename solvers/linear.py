@@ -130,6 +130,7 @@ class Factorisation:
         pivots), or None when the LDL^T failed (then only the LU is available) or K_ff is far
         from symmetric (NON_CONSERVATIVE: no stability is read from it).
     kind : "ldlt" or "lu", the factorisation that solves.
+    neutral : negative pivots within round-off of zero, not in ``negative`` (solvers.neutral_modes).
     """
 
     matrix: sp.csc_matrix
@@ -138,6 +139,7 @@ class Factorisation:
     _ldl: Any = None
     _lu: Any = None
     _norm: float | None = None  # ||K_ff||_inf, made at the first accuracy check
+    neutral: int = 0
 
     def solve(self, rhs: np.ndarray) -> np.ndarray | None:
         """x with K_ff x = rhs (one or more columns), or None when K_ff is singular."""

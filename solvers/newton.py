@@ -114,6 +114,7 @@ from solvers.imposed_alone import imposes_alone, moves_prescribed, opens_contact
 from solvers.inertia import convexified_step
 from solvers.line_search import Watchdog
 from solvers.linear import Factorisation
+from solvers.neutral_modes import unstable_modes
 from solvers.newton_chords import chord_corrections
 from solvers.newton_curvature import curved_step
 from solvers.round_off import RoundOffFloor
@@ -489,7 +490,10 @@ def _iterate(
             # More negative modes than downhill turns: the shifted tangent's step (inertia).
             shifted = convexified_step(run, k_ff, rhs, factor.negative, delta_free)
             if shifted is None:  # shift-invert with the factorisation just made
-                modes = lowest_modes(k_ff, factor.negative, factor.inverse())
+                # every negative pivot's mode, the neutral ones too (they lie nearest zero and
+                # come first), then those beyond round-off (solvers.neutral_modes)
+                pivots = (factor.negative or 0) + factor.neutral
+                modes = unstable_modes(k_ff, lowest_modes(k_ff, pivots, factor.inverse()))
                 run.info["mode_searches"] += 1
                 shifted = downhill(k_ff, rhs, delta_free, factor.negative, modes)
             delta_free = shifted

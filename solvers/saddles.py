@@ -1,6 +1,7 @@
 """A converged state of Static's load path judged (solvers.newton; docs/theory.md §6.5, "The
 stability of a converged state"): refused where cells turned inside out, counted by the
-inertia of its own tangent, and with ``seek_stable`` a saddle left along a negative mode where
+inertia of its own tangent (its neutral modes left out: solvers.neutral_modes), and with
+``seek_stable`` a saddle left along a negative mode where
 a relaxed push lowers the energy (solvers.stability.push_descends) and Newton converges from
 there, kept otherwise.
 """
@@ -14,6 +15,7 @@ from femcore.dofs import N_COLUMNS
 from femcore.state import State
 from solvers.common import IncrementFailed, TurnedInsideOut
 from solvers.linear import Factorisation
+from solvers.neutral_modes import unstable_modes
 from solvers.stability import lowest_modes, push_descends
 
 if TYPE_CHECKING:
@@ -54,7 +56,10 @@ def judged(
     dofs = run.model.dofs
     frames = dofs.frames(state.directors)
     index = dofs.free_slots
-    modes = lowest_modes(run.tangent(state, frames)[0], negative)
+    k_ff = run.tangent(state, frames)[0]
+    # every negative pivot's mode, then those beyond round-off (solvers.neutral_modes): a
+    # zero-energy mode is no way off
+    modes = unstable_modes(k_ff, lowest_modes(k_ff, negative + factor.neutral))
     run.info["mode_searches"] += 1
     load = equilibrium.load(frames).ravel()[index]
     translation = index % N_COLUMNS < 3

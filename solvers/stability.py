@@ -4,7 +4,10 @@ docs/theory.md §6.5, §6.6).
 The number of negative eigenvalues of the tangent K_ff of a converged state is the number of
 negative pivots of its LDL^T (Sylvester's law of inertia; solvers.linear counts them, the run
 keeps the count of each frame). A non-zero count is an unstable equilibrium: a compressed
-plate that stayed flat, the part of a path beyond a limit point. Two ways off it:
+plate that stayed flat, the part of a path beyond a limit point. Only the eigenvalues below
+the rounding of their second variation count (solvers.neutral_modes): a zero-energy mode (the
+uniform tilt of free fibrous directors, docs/theory.md §1.7) has an eigenvalue of round-off,
+either sign, and is neutral, neither counted nor followed. Two ways off it:
 
 - ``downhill``: a Newton step on an indefinite tangent heads for the nearest equilibrium,
   stable or not; its components along the negative modes are turned downhill (the load path;
@@ -34,6 +37,7 @@ from scipy.sparse.linalg import ArpackNoConvergence, LinearOperator, eigsh, splu
 
 from femcore.dofs import N_COLUMNS
 from solvers.common import IncrementFailed
+from solvers.neutral_modes import unstable_modes
 
 if TYPE_CHECKING:
     from solvers.arc_length import Motion
@@ -82,13 +86,18 @@ def downhill(k_ff, rhs, delta, negative=None, modes=None) -> np.ndarray:
     A Newton step heads for the nearest equilibrium, stable or not. Along a mode phi with
     eigenvalue lambda < 0 (of the symmetric part), its component (phi . r) / lambda climbs
     the energy towards the saddle; the step is given the component (phi . r) / |lambda|
-    instead (leaving a converged saddle is ``push_descends``'s push).
+    instead (leaving a converged saddle is ``push_descends``'s push). A neutral mode (lambda
+    within the rounding of phi . K phi, solvers.neutral_modes) keeps Newton's component: the
+    turn would divide the residual's round-off along it by the eigenvalue's.
 
     k_ff : the tangent of the free DOFs; rhs, delta : (n_free,) the right-hand side and the
     Newton step on the free DOFs; negative : the negative pivots of K_ff; modes :
-    (eigenvalues, eigenvectors) of ``lowest_modes`` already computed for K_ff.
+    (eigenvalues, eigenvectors) of ``lowest_modes`` already computed for K_ff, its neutral
+    modes left out (``solvers.neutral_modes.unstable_modes``).
     """
-    values, vectors = lowest_modes(k_ff, negative) if modes is None else modes
+    if modes is None:
+        modes = unstable_modes(k_ff, lowest_modes(k_ff, negative))
+    values, vectors = modes
     delta = delta.copy()
     for value, phi in zip(values, vectors.T):
         if value >= 0.0:
@@ -290,12 +299,13 @@ def _arpack(symmetric, k: int, restarts: int, **options) -> tuple[np.ndarray, np
 
 def buckling_mode(run: StaticRun, pattern, previous: Motion | None = None) -> Motion | None:
     """The unit motion (no load change) along the lowest negative mode phi of the tangent
-    at the last state of ``run``, to the side where the loads do positive work; None if there
-    is none, or if phi is the path's own direction: a limit point, which the arc length
-    follows by itself. A limit point shows either way: the load pattern P drives the mode
-    (|phi . P| > 0.1 |P|), or the mode is the last increment ``previous`` (the cosine of
-    their scaled motions above 0.5; at a limit point the path's tangent is the null
-    vector of K, while a bifurcation mode is transverse to the path). Under an imposed
+    at the last state of ``run`` (nearest zero; not a neutral one, solvers.neutral_modes), to
+    the side where the loads do positive work; None if there is none, or if phi is the
+    path's own direction: a limit point, which the arc length follows by itself. A limit
+    point shows either way: the load pattern P drives the mode (|phi . P| > 0.1 |P|), or the
+    mode is the last increment ``previous`` (the cosine of their scaled motions above 0.5; at
+    a limit point the path's tangent is the null vector of K, while a bifurcation mode is
+    transverse to the path). Under an imposed
     displacement P is spread over the whole model and phi may be local, so the first test
     alone took the limit point of bai-6.1.2 (Mindlin) for a bifurcation and sent the path
     back along itself.
@@ -308,19 +318,20 @@ def buckling_mode(run: StaticRun, pattern, previous: Motion | None = None) -> Mo
     dofs, state = run.model.dofs, run.state
     frames = dofs.frames(state.directors)
     k_ff, k_fp = run.tangent(state, frames)
-    values, vectors = lowest_modes(k_ff, run.negative)
-    negative = np.flatnonzero(values < 0.0)
-    if negative.size == 0:
+    factor = run.factorise(k_ff)
+    # every negative pivot's mode, then those beyond round-off (solvers.neutral_modes)
+    pivots = (factor.negative or 0) + factor.neutral
+    values, vectors = unstable_modes(k_ff, lowest_modes(k_ff, pivots))
+    if values.size == 0:
         return None
-    phi = vectors[:, negative[np.argmax(values[negative])]]
+    phi = vectors[:, -1]  # the negative mode nearest zero (ascending)
     drive, _ = run.load_rate(pattern, frames, k_fp)
     if abs(phi @ drive) > 0.1 * np.linalg.norm(drive):
         return None
     equilibrium = run.equilibrium(run.reached)
     load = equilibrium.load(frames).ravel()[dofs.free_slots]
-    chosen = (values[negative][-1:], phi[:, None])
+    chosen = (values[-1:], phi[:, None])
     translation = dofs.free_slots % N_COLUMNS < 3
-    factor = run.factorise(k_ff)
     if not push_descends(run, state, frames, load, chosen, translation, factor, equilibrium):
         return None  # a saddle no push descends from (push_descends): the path goes on
     side = np.sign(phi @ load) or 1.0

@@ -150,6 +150,10 @@ class Static:
         buckling mode (up to three times per phase). Each switch is listed in
         ``info["branch_switches"]``, the eigen-solves of the load path (turns and saddles)
         counted in ``info["mode_searches"]``.
+        A negative pivot whose eigenvalue lies within the tangent's round-off of zero (a
+        zero-energy mode: the uniform tilt of a fibrous body's free directors) is neutral:
+        neither counted in ``info["negative_eigenvalues"]`` nor followed (solvers.neutral_modes;
+        docs/theory.md §6.5, "Neutral modes").
         Either way a mode is followed only when a push along it (half an element, or down to a
         fiftieth of one, relaxed with its amplitude held) lowers the total potential energy
         beyond round-off (solvers.stability.push_descends); a saddle that no push descends
@@ -256,7 +260,8 @@ class Static:
 
     Stability: every converged state gets the number of negative eigenvalues of the tangent
     K_ff at that state, counted from the pivots of its LDL^T (``info["negative_eigenvalues"]``,
-    one entry per frame after the first). Newton converges one update after its last
+    one entry per frame after the first), those within round-off of zero left out (``seek_stable``
+    above). Newton converges one update after its last
     factorisation, so the tangent at the converged state is assembled and factorised once more
     (``info["evaluations"]["stability_tangents"]``; StaticRun.factor_at), unless the last one
     was made there (docs/theory.md §6.5, "The stability of a converged state"). Load factors

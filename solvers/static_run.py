@@ -36,6 +36,7 @@ from solvers.common import (
 from solvers.force_floor import round_off_force, unloaded_floor
 from solvers.interrupts import STOP, Interrupted
 from solvers.linear import Factorisation, LinearSolver
+from solvers.neutral_modes import judge_pivots
 from solvers.newton import Residual, Tangent, compression_free_ratio
 from solvers.newton_fibres import FibreEdges
 from solvers.newton_levels import LevelStrains
@@ -90,6 +91,9 @@ class StaticRun:
         # The updated K_ff of a predicted contact set (solvers/contact_sets.py), factorised by a
         # linear solver of its own: its patterns would replace the tangents' kept plans.
         self.updated_linear = LinearSolver()
+        # The shifted K_ff whose inertia tells the negative modes from the neutral ones
+        # (solvers.neutral_modes), factorised by a linear solver of its own likewise.
+        self.neutral_linear = LinearSolver()
         self.compression_free = compression_free_ratio(solver.compression_free, model)
         # The steps' projections on the fibre lengths (solvers.newton_fibres) and the level strains
         # (solvers.newton_levels; not with prescribed motion: 3-14-9-29 on the bias extension).
@@ -284,8 +288,13 @@ class StaticRun:
         self._assembled = (None if compression_free else state, k_ff)
         return k_ff, k_fp
 
-    def factorise(self, k_ff) -> Factorisation:
+    def factorise(self, k_ff, judge: bool = True) -> Factorisation:
+        """The factorisation of ``k_ff``; with ``judge`` its negative pivots within the
+        tangent's round-off of zero counted as neutral, not negative (solvers.neutral_modes:
+        a second factorisation, by a linear solver of its own, where K_ff has any)."""
         factor = self.linear.factorise(k_ff)
+        if judge:
+            factor = judge_pivots(self.neutral_linear, k_ff, factor)
         state, assembled = self._assembled
         self._factorised = (state if k_ff is assembled else None, factor)
         return factor
@@ -573,6 +582,8 @@ class StaticRun:
         self.info["linear_solver"] = {
             "symbolic_factorisations": self.linear.symbolic,
             "numeric_factorisations": self.linear.numeric,
+            # the shifted tangents that told neutral pivots from negative ones
+            "neutral_factorisations": self.neutral_linear.numeric,
         }
         result.info = dict(self.info, tol=self.solver.tol)
         record_tool_penetration(self.model, result, "Static", converged)

@@ -19,8 +19,12 @@ class Run:
     def __init__(self, stabilised: bool = False):
         self.dashpots = object() if stabilised else None
         self.linear = LinearSolver()
-        self.factorise = self.linear.factorise
         self.info = {"shifted": []}
+
+    def factorise(self, k_ff, judge: bool = True):
+        """The factorisation (``judge``: StaticRun's count of neutral pivots, which the
+        shifts, far above round-off, leave out)."""
+        return self.linear.factorise(k_ff)
 
 
 def tangent(negative: int, size: int = 40):
