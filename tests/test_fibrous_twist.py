@@ -22,6 +22,7 @@ from elements.fibrous.twist_check import TWIST_TOLERANCE, twist_curvatures
 from femcore import Mesh, Model
 from materials import BendingLaw, Fabric
 from solvers import Static
+from tests.test_fibrous_symmetry import mirrored
 
 A = 100.0  # plate side, mm
 B1, B2 = 7.5, 3.0  # warp and weft bending stiffnesses, N mm (those of the review's plate)
@@ -112,8 +113,11 @@ def test_a_twist_bends_no_interior_fibre_on_the_one_way_pattern_alone():
 
 def test_a_mesh_whose_interior_reads_a_twist_as_curvature_is_warned_about():
     """Compiling on the alternating pattern warns (root mean square 1 per unit twist on
-    square cells, above TWIST_TOLERANCE); on the one-way pattern it does not."""
-    alternating = Model(Mesh.rectangle(4.0, 4.0, nx=4, ny=4, diagonals="alternating"))
+    square cells, above TWIST_TOLERANCE; 6 x 6 cells: 48 interior cells read it, 20 boundary
+    cells); on the one-way pattern it does not, nor on a one-way mesh mirrored across a
+    line (the symmetry tests' wholes), whose flipped line reads a twist in a share of the
+    cells that falls as the cell, as the boundary does."""
+    alternating = Model(Mesh.rectangle(6.0, 6.0, nx=6, ny=6, diagonals="alternating"))
     with pytest.warns(UserWarning, match="reads a pure twist as fibre curvature"):
         alternating.add(FibrousShell(_fabric()))
         alternating.compile()
@@ -124,6 +128,14 @@ def test_a_mesh_whose_interior_reads_a_twist_as_curvature_is_warned_about():
         built = one_way.compile()
     assert not [w for w in caught if "pure twist" in str(w.message)]
     assert built.blocks[0].twist_reading < 1e-12 < TWIST_TOLERANCE
+    whole = mirrored(Mesh.rectangle(6.0, 6.0, nx=6, ny=6), axis=0, at=6.0)
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        model = Model(whole)
+        model.add(FibrousShell(_fabric()))
+        reading = model.compile().blocks[0].twist_reading
+    assert reading > TWIST_TOLERANCE  # the line reads it ...
+    assert not [w for w in caught if "pure twist" in str(w.message)]  # ... and is not warned
 
 
 def test_pinned_plate_converges_at_first_order_to_navier_on_the_one_way_pattern():

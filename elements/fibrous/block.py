@@ -28,11 +28,11 @@ from elements.fibrous import tangent as stiffness
 from elements.fibrous import tangent_pieces as pieces
 from elements.fibrous.compression_floor import real_compression
 from elements.fibrous.fibres import by_family, fibre_ordering, shear_orientation
-from elements.fibrous.twist_check import warn_if_twist_bends
 from elements.fibrous.fold_branch import branch_view, initial_branch, updated_branch
 from elements.fibrous.packed_laws import pack_laws
 from elements.fibrous.stable_steps import cell_steps
 from elements.fibrous.tangent import CornerPairs
+from elements.fibrous.twist_check import warn_if_twist_bends
 from elements.shell_geometry import GUARD, guarded_thickness, lumped_mass
 from femcore.assembly import Scatter, TangentPart
 from femcore.field_names import LEVELS, name_components

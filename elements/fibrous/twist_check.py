@@ -102,20 +102,32 @@ def warn_if_twist_bends(
     tolerance: float = TWIST_TOLERANCE,
 ) -> float:
     """Warn (UserWarning) when a unit twist gives the interior cells fibre curvatures of root
-    mean square above ``tolerance``; return that root mean square (0 without interior
-    cells). Arguments as in :func:`twist_curvatures`."""
+    mean square above ``tolerance`` and a reading sum_e A_e |chi_e|^2 over them above the
+    boundary cells' (those with a side without neighbour, which read a twist on every
+    pattern: the one-way pattern's first-order error, docs/theory.md §4.2). A line of
+    flipped diagonals (a mesh mirrored across a symmetry plane) reads it along the line, a
+    share of the cells that falls as the cell, as the boundary does; a mesh that mixes the
+    diagonals throughout reads it in every cell, and refinement keeps it.
+
+    Returns the interior cells' root mean square (0 without interior cells). Arguments as
+    in :func:`twist_curvatures`."""
     chi, interior = twist_curvatures(points, connectivity, neighbour)
     if not interior.any():
         return 0.0
     rms = float(np.sqrt(np.mean(chi[interior] ** 2)))
-    if rms > tolerance:
+    x = points[connectivity]
+    area = np.linalg.norm(cross(x[:, 1] - x[:, 0], x[:, 2] - x[:, 0]), axis=1)
+    reading = area * np.sum(chi**2, axis=1)
+    inside, edge = float(reading[interior].sum()), float(reading[~interior].sum())
+    if rms > tolerance and inside > edge:
         warnings.warn(
             f"FibrousShell: on this mesh the rotation-free bending reads a pure twist as fibre "
-            f"curvature (root mean square {rms:.3g} per unit twist over "
-            f"{int(interior.sum())} interior cells, 0 on the one-way pattern of split quads): "
-            f"two-way bending then converges to a plate with a spurious twisting stiffness of "
-            f"about {rms**2:.3g} (B1 + B2) / 2 (on Mesh.rectangle(..., diagonals='alternating') "
-            f"0.50 of the Navier deflection of a pinned square plate). Mesh the sheet as "
+            f"curvature throughout (root mean square {rms:.3g} per unit twist over "
+            f"{int(interior.sum())} interior cells, {inside / max(edge, 1e-300):.3g} times the "
+            f"boundary cells' reading; 0 inside the one-way pattern of split quads): two-way "
+            f"bending then converges to a plate with a spurious twisting stiffness of about "
+            f"{rms**2:.3g} (B1 + B2) / 2 (on Mesh.rectangle(..., diagonals='alternating') 0.50 "
+            f"of the Navier deflection of a pinned square plate). Mesh the sheet as "
             f"Mesh.rectangle's default one-way diagonals, every cell cut alike "
             f"(docs/theory.md §4.2).",
             UserWarning,
