@@ -61,7 +61,7 @@ def twist_curvatures(
     p, q = cross(n, g1), cross(n, g2)  # in-plane normals of the fibres
     scale = 1.0 / np.abs(np.sum(p * g2, axis=1))  # unit twist for any fibre angle
     centre = x.mean(axis=1)
-    interior = (neighbour >= 0).all(axis=1)
+    interior = np.asarray((neighbour >= 0).all(axis=1))
     across = np.where(neighbour >= 0, neighbour, np.arange(len(x))[:, None])  # (m, s)
 
     def lift(y: np.ndarray) -> np.ndarray:
