@@ -33,6 +33,7 @@ from elements.fibrous.fold_branch import branch_view, initial_branch, updated_br
 from elements.fibrous.packed_laws import pack_laws
 from elements.fibrous.stable_steps import cell_steps
 from elements.fibrous.tangent import CornerPairs
+from elements.fibrous.twist_check import warn_if_twist_bends
 from elements.shell_geometry import GUARD, guarded_thickness, lumped_mass
 from femcore.assembly import Scatter, TangentPart
 from femcore.field_names import LEVELS, name_components
@@ -163,6 +164,9 @@ class FibrousShellBlock(ElementBlock):
         topology = build_topology(self.connectivity)
         self.neighbour = np.asarray(topology.neighbour)
         self.neighbour_side = supports.neighbour_sides(self.neighbour)
+        # Bai's curvature estimate reads a twist as fibre curvature on meshes not cut
+        # one way (docs/theory.md §4.2): say so before a two-way bending converges wrong.
+        self.twist_reading = warn_if_twist_bends(mesh.points, self.connectivity, self.neighbour)
         # Clamps (docs/theory.md §4.5): the requested ones now, with the model's supports added
         # by apply_supports, which also recomputes the reference folds from these points.
         self.requested_clamp = supports.requested_clamp(mesh, self.connectivity, shell.clamped)

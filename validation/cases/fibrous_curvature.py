@@ -10,8 +10,10 @@ chi = -d^2 w / ds^2 along the fibre (Bai's sign).
 Geometry: a 6 x 7.8 mm sheet, 6 x 6 cells (a = 1 mm, b = 1.3 mm as in docs/theory.md §4.2), warp
 along x; and a 6 x 4 mm sheet, 6 x 2 cells, clamped along x = 0 for the clamped-edge option.
 Surfaces and expected (warp, weft) curvature on interior cells: x^2/2 (-1, 0), y^2/2 (0, -1),
-(x^2 + y^2)/2 (-1, -1), (x + y)^2/2 (-1, -1), x y (0, 0): a pure twist bends no fibre; and
-x^2/2 at the clamped wall (-1).
+(x^2 + y^2)/2 (-1, -1), (x + y)^2/2 (-1, -1), x y (0, 0): a pure twist bends no fibre on
+this one-way pattern of split quads (on the alternating one every interior cell reads it as
++-b/a, +-a/b: docs/theory.md §4.2, "Twist and the mesh's pattern"); and x^2/2 at the clamped
+wall (-1).
 Nothing assumed: the references are exact; the material does not enter the curvature.
 Same checks as tests/test_fibrous.py::test_constant_curvature_is_exact_on_interior_elements and
 ::test_clamped_edge_option_gives_the_exact_curvature_at_the_wall. No solver.
