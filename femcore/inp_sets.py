@@ -27,7 +27,13 @@ from pathlib import Path
 import numpy as np
 
 from femcore.inp_include import deck_lines
-from femcore.inp_lines import ELEMENT_NODES, element_type_refusal, node_line
+from femcore.inp_lines import (
+    element_type_refusal,
+    meshio_element_type,
+    node_line,
+    nodes_per_element,
+    read_as_note,
+)
 
 __all__ = ["DeckSets", "resolve_deck_sets", "scan_deck_sets"]
 
@@ -70,6 +76,9 @@ class DeckSets:
         as the deck first writes it, which the mesh's set takes.
     normals_at : list[tuple[int, int]]
         The places of node lines giving the direction cosines of a normal (not read).
+    read_as : list[str]
+        "deck.inp: line 8: TYPE=CPS3 (...) is read as S3, by its nodes", per *ELEMENT block
+        of a type read as another (femcore.inp_lines.read_as_note).
     """
 
     files: list[Path] = field(default_factory=list)
@@ -86,6 +95,7 @@ class DeckSets:
     element_types: list[tuple[str, int, tuple[int, int]]] = field(default_factory=list)
     spellings: dict[str, str] = field(default_factory=dict)
     normals_at: list[tuple[int, int]] = field(default_factory=list)
+    read_as: list[str] = field(default_factory=list)
 
     def where(self, place: tuple[int, int]) -> str:
         """ "deck.inp: line 12", the file and the line of a place."""
@@ -122,10 +132,11 @@ def _parameters(line: str) -> tuple[str, dict[str, str]]:
     return keyword, found
 
 
-def scan_deck_sets(path: Path) -> DeckSets:
+def scan_deck_sets(path: Path, tool: bool = False) -> DeckSets:
     """The sets of the deck at ``path`` and of the files it includes, as written, and its text
     without them, for meshio (its node lines as ``label, x, y, z`` in Cartesian coordinates,
-    femcore.inp_lines).
+    femcore.inp_lines). ``tool``: the deck is a rigid tool's, whose rigid and surface facets
+    are read (femcore.inp_lines.element_type_refusal).
 
     Raises
     ------
@@ -176,8 +187,8 @@ def scan_deck_sets(path: Path) -> DeckSets:
                 node_at = len(keep)
                 line = "*NODE"  # its lines are Cartesian by now (SYSTEM= read)
             if mode == "ELEMENT":
-                _start_element_block(deck, parameters, file, number, at)
-                line = f"*ELEMENT, TYPE={deck.element_types[-1][0].strip().upper()}"
+                _start_element_block(deck, parameters, file, number, at, tool)
+                line = f"*ELEMENT, TYPE={meshio_element_type(deck.element_types[-1][1])}"
             keep.append(line)
             continue
         if mode in ("NSET", "ELSET"):
@@ -229,14 +240,23 @@ def deck_where(file: Path, number: int) -> str:
 
 
 def _start_element_block(
-    deck: DeckSets, parameters: dict[str, str], file: Path, number: int, at: tuple[int, int]
+    deck: DeckSets,
+    parameters: dict[str, str],
+    file: Path,
+    number: int,
+    at: tuple[int, int],
+    tool: bool,
 ) -> None:
-    """Open an *ELEMENT block: its type checked (femcore.inp_lines), its ELSET= noted."""
+    """Open an *ELEMENT block: its type checked (femcore.inp_lines; a tool's file takes rigid
+    facets), its ELSET= noted."""
     written = parameters.get("TYPE", "")
-    refusal = element_type_refusal(written)
+    refusal = element_type_refusal(written, tool)
     if refusal:
         raise ValueError(f"{deck_where(file, number)}: *ELEMENT: {refusal}")
-    deck.element_types.append((written, ELEMENT_NODES[written.strip().upper()], at))
+    note = read_as_note(written)
+    if note:
+        deck.read_as.append(f"{deck_where(file, number)}: {note}")
+    deck.element_types.append((written, nodes_per_element(written, tool), at))
     deck.element_numbers.append([])
     deck.element_lines.append([])
     if parameters.get("ELSET"):

@@ -725,7 +725,7 @@ class Mesh(ReadOnlyState):
         its blanks is one set, named as the deck first writes it and found by any such
         spelling (``fold_set_names``); a coordinate left out or blank is 0, SYSTEM=C nodes
         (r, theta deg, z) are converted; data lines may stand in an INPUT= file; shells
-        (S3, S4 families) and two-node trusses and beams are read (femcore.inp_lines).
+        (S3, S4 families; gmsh's CPS3, S3T.. with a warning) and trusses/beams are read.
 
         Parameters
         ----------
@@ -747,8 +747,8 @@ class Mesh(ReadOnlyState):
             including itself again (naming the including file and line), an
             assembly of several *INSTANCE entries or a moved one, a set naming a set, a
             node or an element the deck does not define, a GENERATE line that is not
-            ``first, last[, increment]``, an element repeating a node, a rigid, surface,
-            membrane or continuum element type, an empty *ELEMENT block, SYSTEM=S, a keyword
+            ``first, last[, increment]``, an element repeating a node, a rigid (a tool's:
+            RigidSurface), membrane, continuum or second-order type, an empty *ELEMENT block, SYSTEM=S, a keyword
             that makes or moves nodes or elements (*NGEN, *ELGEN, *SYSTEM, ...), a line that
             is not numbers (each naming the file and the line: femcore.inp_sets), two gmsh
             physical groups of one name or one whose name a set cannot take (naming the

@@ -35,9 +35,12 @@ _NATIVE_SET_FORMATS = {"abaqus"}
 _NODE_MASK = "nset:"
 
 
-def read_mesh(path: str | Path, file_format: str | None = None) -> Mesh:
+def read_mesh(path: str | Path, file_format: str | None = None, tool: bool = False) -> Mesh:
     """Read a mesh file through meshio: the implementation of :meth:`Mesh.read`, which
-    documents the formats, the sets read back and the errors."""
+    documents the formats, the sets read back and the errors. ``tool=True`` reads a rigid
+    tool's file (elements.RigidSurface): an Abaqus deck's rigid and surface facets (R3D3,
+    R3D4, SFM3D3, SFM3D4, SFM3D4R) are read as its triangles, where a body's deck refuses
+    them (femcore.inp_lines)."""
     path = as_path(path, "Mesh.read path")
     if path.is_dir():
         raise ValueError(f"mesh file {path} is a directory; expected a mesh file in it")
@@ -50,7 +53,7 @@ def read_mesh(path: str | Path, file_format: str | None = None) -> Mesh:
         _check_physical_names(path)
     # A deck's sets are read here by Abaqus's rules, its *INCLUDE files in place
     # (femcore.inp_sets, femcore.inp_include), meshio reading its nodes and elements only.
-    own_sets = scan_deck_sets(path) if fmt == "abaqus" else None
+    own_sets = scan_deck_sets(path, tool) if fmt == "abaqus" else None
     try:
         if own_sets is None:
             raw = meshio.read(path, file_format=fmt)
@@ -87,11 +90,20 @@ def read_mesh(path: str | Path, file_format: str | None = None) -> Mesh:
     check_mesh_memory(n_cells, len(raw.points), f"the mesh of {path}")
     mesh = _mesh_from_meshio(raw, str(path), fold_set_names=own_sets is not None)
     if own_sets is not None and own_sets.normals_at:
+        more = len(own_sets.normals_at) - 1
+        others = f" (and {more} more *NODE line{'s' if more > 1 else ''})" if more else ""
         warnings.warn(
-            f"{path}: {own_sets.where(own_sets.normals_at[0])} (and "
-            f"{len(own_sets.normals_at) - 1} more *NODE lines) gives the direction cosines "
+            f"{own_sets.where(own_sets.normals_at[0])}{others} gives the direction cosines "
             "of a normal after the coordinates; the reader leaves them: a shell's normals "
             "come from its elements (docs/theory.md)",
+            UserWarning,
+            stacklevel=3,
+        )
+    for note in own_sets.read_as if own_sets is not None else []:
+        warnings.warn(
+            f"{note}: the deck's elements are read as the shell's (or the tool's) cells, and "
+            "its sections never are; if the deck is a plane-stress or thermal model, it is "
+            "not one here",
             UserWarning,
             stacklevel=3,
         )
