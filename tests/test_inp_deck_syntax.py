@@ -233,6 +233,8 @@ def test_a_quoted_name_is_read_as_written_and_one_clashing_with_another_set_refu
     text = NODES + SKIN + '*NSET, NSET="My Tip"\n2\n*NSET, NSET="My TIP"\n4\n'
     mesh = Mesh.read(deck(tmp_path, text))
     assert mesh.node_sets["My Tip"].tolist() == [1] and mesh.node_sets["My TIP"].tolist() == [3]
+    with pytest.raises(ValueError, match=r"'my tip' is ambiguous: the sets \['My Tip', 'My TIP'\]"):
+        mesh.nodes("my tip")  # an unquoted name: either set, as Abaqus reads it
     with pytest.raises(
         ValueError,
         match=r"deck.inp: line 11: the deck names two sets 'Tip', one quoted \(read as written\)",
