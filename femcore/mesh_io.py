@@ -19,6 +19,7 @@ from numpy.typing import ArrayLike
 from femcore.checks import as_path
 from femcore.inp_deck import DeckScan, scan_deck
 from femcore.inp_sets import resolve_deck_sets, scan_deck_sets
+from femcore.inp_write import FIELD_WIDTH, node_block, quote_set_names
 from femcore.memory import check_mesh_memory
 from femcore.mesh import CELL_KINDS, Mesh
 from femcore.mesh_checks import sorted_unique
@@ -171,7 +172,7 @@ def write_mesh(mesh: Mesh, path: str | Path, file_format: str | None = None) -> 
     try:
         meshio.write(path, out, file_format=fmt, **options)
         if fmt == "abaqus":
-            _abaqus_element_types(path, kinds)
+            _abaqus_element_types(path, mesh, kinds)
     except meshio.WriteError as err:
         raise ValueError(f"cannot write {path} as {fmt!r}: {err}") from err
     except OSError as err:
@@ -184,9 +185,11 @@ def write_mesh(mesh: Mesh, path: str | Path, file_format: str | None = None) -> 
 _ABAQUS_TYPES = {"triangle": "S3", "line": "T3D2", "quad": "S4"}
 
 
-def _abaqus_element_types(path: Path, kinds: list[str]) -> None:
-    """Rewrite the *ELEMENT lines meshio wrote at ``path`` with the types of _ABAQUS_TYPES
-    (meshio writes each block's keyword line as ``*ELEMENT, TYPE=<its type>`` alone)."""
+def _abaqus_element_types(path: Path, mesh: Mesh, kinds: list[str]) -> None:
+    """Rewrite what meshio wrote at ``path`` so that Abaqus and CalculiX read the mesh as it
+    is (femcore.inp_write): the *NODE lines with numbers of at most 20 characters, the
+    *ELEMENT lines with the types of _ABAQUS_TYPES (meshio writes each block's keyword line
+    as ``*ELEMENT, TYPE=<its type>`` alone), set names with blanks quoted."""
     text = path.read_text(encoding="utf-8")
     for kind in dict.fromkeys(kinds):
         name = CELL_KINDS[kind].meshio_name
@@ -194,7 +197,18 @@ def _abaqus_element_types(path: Path, kinds: list[str]) -> None:
         text = text.replace(
             f"\n*ELEMENT, TYPE={written}\n", f"\n*ELEMENT, TYPE={_ABAQUS_TYPES[name]}\n"
         )
-    path.write_text(text, encoding="utf-8")
+    head, _, rest = text.partition("\n*NODE\n")
+    nodes, inexact = node_block(mesh.points)
+    text = head + "\n*NODE\n" + nodes + rest[rest.index("*ELEMENT") :]
+    path.write_text(quote_set_names(text), encoding="utf-8")
+    if inexact:
+        warnings.warn(
+            f"{path}: {inexact} coordinate(s) need 17 significant digits and an exponent, "
+            f"more than the {FIELD_WIDTH} characters CalculiX reads per number: written "
+            "rounded to fewer digits (a few units in the last place)",
+            UserWarning,
+            stacklevel=4,
+        )
 
 
 def _native_sets(mesh: Mesh, kinds: list[str]) -> dict[str, Any]:
