@@ -21,6 +21,7 @@ with ELSET holds the nodes of the elements of the element sets it lists.
 from __future__ import annotations
 
 from bisect import bisect_right
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -165,6 +166,13 @@ def scan_deck_sets(path: Path, tool: bool = False) -> DeckSets:
             mode, parameters = _parameters(line)
             if mode in ("NSET", "ELSET"):
                 name = deck.name(parameters.get(mode, ""), deck_where(file, number))
+                if mode == "NSET" and parameters.get("ELSET"):
+                    raise ValueError(
+                        f"{deck_where(file, number)}: *NSET, ELSET={parameters['ELSET']}: "
+                        "Abaqus's ELSET parameter of *NSET takes no value; the element sets "
+                        "whose nodes the set holds stand on the data lines (*NSET, NSET=name, "
+                        "ELSET, then a line 'B')"
+                    )
                 how = "GENERATE" if "GENERATE" in parameters else ""
                 how = "ELSET" if mode == "NSET" and "ELSET" in parameters else how
                 deck.sets.append((mode, name, how, at, []))
@@ -396,12 +404,12 @@ def resolve_deck_sets(deck: DeckSets) -> tuple[dict[str, np.ndarray], dict[str, 
                     ids.append(node_index[nodes.find(labels_of)])
             point_sets[name] = np.unique(np.concatenate(ids))
         elif kind == "NSET":
-            found = nodes.defined(labels, f"{what} names node")
+            found = nodes.defined(labels, f"{what} names node", _line_of(deck, how, data))
             ids = [node_index[found]]
             ids += [point_sets[member] for member in [*members, name] if member in point_sets]
             point_sets[name] = np.unique(np.concatenate(ids))
         else:
-            found = elements.defined(labels, f"{what} names element")
+            found = elements.defined(labels, f"{what} names element", _line_of(deck, how, data))
             cell_sets[name] = [
                 np.unique(
                     np.concatenate(
@@ -433,15 +441,36 @@ class _Labels:
             return np.full(len(query), -1, dtype=np.int64)
         return np.where(self.sorted[at] == query, self.order[at], -1)
 
-    def defined(self, wanted: list[int], names: str) -> np.ndarray:
+    def defined(
+        self, wanted: list[int], names: str, line_of: Callable[[int], str] | None = None
+    ) -> np.ndarray:
         """``find``, or ValueError "<names> <label> (and k more), which the deck does not
-        define" for the first wanted label that is not one."""
+        define (on <line_of(label)>)" for the first wanted label that is not one."""
         found = self.find(wanted)
         missing = np.asarray(wanted, dtype=np.int64)[found < 0].tolist()
         if missing:
             more = f" (and {len(missing) - 1} more)" if len(missing) > 1 else ""
-            raise ValueError(f"{names} {missing[0]}{more}, which the deck does not define")
+            on = f" (its data line: {line_of(missing[0])})" if line_of else ""
+            raise ValueError(f"{names} {missing[0]}{more}, which the deck does not define{on}")
         return found
+
+
+def _line_of(deck: DeckSets, how: str, data: list) -> Callable[[int], str]:
+    """The place of the first data line of a set that lists (or generates) a label, for the
+    message refusing a label the deck does not define: the line may stand in another file
+    than the keyword's (INPUT=)."""
+
+    def line_of(label: int) -> str:
+        for place, items in data:
+            if how == "GENERATE":
+                listed = label in _generated(items, deck.where(place))
+            else:
+                listed = any(item.lstrip("+-").isdigit() and int(item) == label for item in items)
+            if listed:
+                return deck.where(place)
+        return "?"
+
+    return line_of
 
 
 def _generated(items: list[str], where: str) -> list[int]:

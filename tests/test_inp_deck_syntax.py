@@ -240,3 +240,37 @@ def test_a_quoted_name_is_read_as_written_and_one_clashing_with_another_set_refu
         match=r"deck.inp: line 11: the deck names two sets 'Tip', one quoted \(read as written\)",
     ):
         Mesh.read(deck(tmp_path, NODES + SKIN + '*NSET, NSET=Tip\n2\n*NSET, NSET="Tip"\n4\n'))
+
+
+def test_a_node_set_with_a_valued_elset_parameter_is_refused_naming_the_line(tmp_path):
+    """*NSET, NSET=NB, ELSET=Skin gave an empty set silently: Abaqus's ELSET of *NSET takes no
+    value, the element sets stand on the data lines."""
+    text = NODES + SKIN + "*NSET, NSET=NB, ELSET=Skin\n"
+    with pytest.raises(ValueError, match=r"deck.inp: line 9: \*NSET, ELSET=Skin: .* no value"):
+        Mesh.read(deck(tmp_path, text))
+    mesh = Mesh.read(deck(tmp_path, NODES + SKIN + "*NSET, NSET=NB, ELSET\nSkin\n"))
+    assert mesh.node_sets["NB"].tolist() == [0, 1, 2, 3]
+
+
+@pytest.mark.parametrize(
+    "keyword, continued",
+    [("*ELEMENT, TYPE=S3,", "ELSET=Plate"), ("*ELEMENT,", " type=S3, elset=Plate")],
+    ids=["element", "type"],
+)
+def test_a_keyword_line_ending_with_a_comma_continues_on_the_next(tmp_path, keyword, continued):
+    """Abaqus "Input syntax rules": refused before as 'expected integers' at the second line."""
+    text = NODES + f"{keyword}\n{continued}\n1, 1, 2, 4\n2, 1, 4, 3\n*NSET,\n NSET=Tip\n2, 4\n"
+    mesh = Mesh.read(deck(tmp_path, text))
+    assert mesh.triangles.tolist() == [[0, 1, 3], [0, 3, 2]]
+    assert mesh.element_sets["Plate"].tolist() == [0, 1]
+    assert mesh.node_sets["Tip"].tolist() == [1, 3]
+    with pytest.raises(ValueError, match=r"deck.inp: line 10: element 3 names node 9"):
+        Mesh.read(deck(tmp_path, text.replace("*NSET,", "3, 1, 2, 9\n*NSET,")))
+
+
+def test_an_unknown_label_in_a_data_file_is_refused_naming_its_line(tmp_path):
+    """Was reported at the keyword line of the main deck only."""
+    (tmp_path / "tip.txt").write_text("1, 2\n3, 99\n")
+    text = NODES + SKIN + "*NSET, NSET=Tip, INPUT=tip.txt\n"
+    with pytest.raises(ValueError, match=r"names node 99, .* \(its data line: .*tip.txt: line 2\)"):
+        Mesh.read(deck(tmp_path, text))
