@@ -35,6 +35,7 @@ from femcore.inp_lines import (
     nodes_per_element,
     read_as_note,
 )
+from femcore.inp_scope import DeckScopes
 
 __all__ = ["DeckSets", "resolve_deck_sets", "scan_deck_sets"]
 
@@ -80,6 +81,8 @@ class DeckSets:
     read_as : list[str]
         "deck.inp: line 8: TYPE=CPS3 (...) is read as S3, by its nodes", per *ELEMENT block
         of a type read as another (femcore.inp_lines.read_as_note).
+    scopes : femcore.inp_scope.DeckScopes
+        The part and assembly scopes: the assembly's own nodes and sets left out.
     """
 
     files: list[Path] = field(default_factory=list)
@@ -97,6 +100,7 @@ class DeckSets:
     spellings: dict[str, str] = field(default_factory=dict)
     normals_at: list[tuple[int, int]] = field(default_factory=list)
     read_as: list[str] = field(default_factory=list)
+    scopes: DeckScopes = field(default_factory=DeckScopes)
 
     def where(self, place: tuple[int, int]) -> str:
         """ "deck.inp: line 12", the file and the line of a place."""
@@ -164,8 +168,15 @@ def scan_deck_sets(path: Path, tool: bool = False) -> DeckSets:
         if line.startswith("*"):
             at = (file_id, number)
             mode, parameters = _parameters(line)
+            deck.scopes.enter(mode)
+            if mode in ("NODE", "NSET", "ELSET") and deck.scopes.assembly_own(
+                mode, parameters, deck_where(file, number)
+            ):
+                mode = "LEFT OUT"  # its data lines with it (femcore.inp_scope)
+                continue
             if mode in ("NSET", "ELSET"):
                 name = deck.name(parameters.get(mode, ""), deck_where(file, number))
+                deck.scopes.check_set(mode, name, name, deck_where(file, number))
                 if mode == "NSET" and parameters.get("ELSET"):
                     raise ValueError(
                         f"{deck_where(file, number)}: *NSET, ELSET={parameters['ELSET']}: "
@@ -194,10 +205,19 @@ def scan_deck_sets(path: Path, tool: bool = False) -> DeckSets:
                     continue  # its lines join the first block's
                 node_at = len(keep)
                 line = "*NODE"  # its lines are Cartesian by now (SYSTEM= read)
+            if mode == "ELEMENT" and deck.scopes.scope == "assembly":
+                raise ValueError(
+                    f"{deck_where(file, number)}: *ELEMENT in the assembly, outside its "
+                    "instance: its node labels are the assembly's own (femcore.inp_scope), "
+                    "not the part's; give the elements in the part, or the tool in a file "
+                    'of its own ([[contact]] tool = "surface", file = ...)'
+                )
             if mode == "ELEMENT":
                 _start_element_block(deck, parameters, file, number, at, tool)
                 line = f"*ELEMENT, TYPE={meshio_element_type(deck.element_types[-1][1])}"
             keep.append(line)
+            continue
+        if mode == "LEFT OUT":
             continue
         if mode in ("NSET", "ELSET"):
             items = [item.strip() for item in line.split(",") if item.strip()]

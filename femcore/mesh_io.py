@@ -100,6 +100,9 @@ def read_mesh(path: str | Path, file_format: str | None = None, tool: bool = Fal
             UserWarning,
             stacklevel=3,
         )
+    left_out = own_sets.scopes.warning() if own_sets is not None else None
+    if left_out:
+        warnings.warn(left_out, UserWarning, stacklevel=3)
     for note in own_sets.read_as if own_sets is not None else []:
         warnings.warn(
             f"{note}: the deck's elements are read as the shell's (or the tool's) cells, and "
