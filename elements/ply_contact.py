@@ -142,6 +142,7 @@ from elements.ply_active_set import LAWS, ActiveSetPlyContactBlock
 from elements.ply_block import DOFS, PENALTY_SHARE, RULES, PlyContactBlock
 from elements.ply_projection import MARGIN, Facing, penalty_law
 from femcore.interaction import Body, Interaction
+from femcore.set_names import set_named
 from femcore.topology import ZERO_AREA_TOL
 
 __all__ = [
@@ -358,11 +359,14 @@ class PlyContact(Interaction):
         mesh = body.mesh
         triangles = mesh.triangles
         sets = mesh.cell_sets("triangle")
+        fold = mesh.fold_set_names  # a deck's sets, found by any spelling Abaqus takes
         if isinstance(self.upper, str):
-            if self.upper in sets:
-                upper = np.asarray(sets[self.upper], dtype=np.int64)
-            elif self.upper in mesh.node_sets:
-                inside = np.isin(triangles, mesh.node_sets[self.upper]).all(axis=1)
+            upper_set = set_named(sets, self.upper, fold)
+            upper_nodes = set_named(mesh.node_sets, self.upper, fold)
+            if upper_set in sets:
+                upper = np.asarray(sets[upper_set], dtype=np.int64)
+            elif upper_nodes in mesh.node_sets:
+                inside = np.isin(triangles, mesh.node_sets[upper_nodes]).all(axis=1)
                 upper = np.flatnonzero(inside)
             else:
                 raise ValueError(
@@ -372,12 +376,13 @@ class PlyContact(Interaction):
         else:
             upper = self.upper
         if isinstance(self.lower, str):
-            if self.lower not in sets:
+            lower_set = set_named(sets, self.lower, fold)
+            if lower_set not in sets:
                 raise ValueError(
                     f"PlyContact: no triangle set named {self.lower!r}: the mesh has "
                     f"{sorted(sets) or 'none'}"
                 )
-            lower = np.asarray(sets[self.lower], dtype=np.int64)
+            lower = np.asarray(sets[lower_set], dtype=np.int64)
         else:
             lower = self.lower
         if upper.size == 0 or lower.size == 0:

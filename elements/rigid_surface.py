@@ -184,11 +184,13 @@ class RigidSurface(RigidTool):
         from scipy.spatial import cKDTree
 
         from femcore.mesh import Mesh
+        from femcore.mesh_io import read_mesh
 
         super().__init__(motion, amplitude=amplitude, free=free, force=force, mass=mass)
         if not isinstance(mesh, Mesh):
             try:
-                mesh = Mesh.read(mesh)
+                # a tool's file: an Abaqus deck's rigid facets (R3D3, R3D4) are read
+                mesh = read_mesh(mesh, tool=True)
             except (OSError, TypeError) as error:
                 raise ValueError(f"RigidSurface: cannot read {mesh!r}: {error}") from None
         triangles = mesh.triangles

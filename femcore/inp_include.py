@@ -14,7 +14,9 @@ of the same name there is never taken instead.
 
 The data lines of *NODE, *ELEMENT, *NSET and *ELSET may stand in a file of their own
 (``*NODE, INPUT=nodes.txt``): that file's lines are read in place of the keyword's, found by
-the same rule, after the keyword line without its INPUT=.
+the same rule, after the keyword line without its INPUT=. A keyword line that ends with a
+comma continues on the next line (``*ELEMENT, TYPE=S3,`` then ``ELSET=Plate``): it is given
+as one line, at the number of its first.
 
 Every reader of a deck's lines (femcore.inp_deck's keyword scan, femcore.inp_sets' sets)
 reads them through :func:`deck_lines`, so a set in an included file naming the main deck's
@@ -75,7 +77,7 @@ def _lines(path: Path, job: Path, chain: list[Path]) -> Iterator[tuple[Path, int
         raise ValueError(
             f"cannot read {path} as 'abaqus': not a text file ({err.reason} at byte {err.start})"
         ) from None
-    for number, line in enumerate(text.splitlines(), start=1):
+    for number, line in _keyword_lines_joined(text.splitlines()):
         data_keyword = line.startswith("*") and _data_keyword(line)
         if not (line.startswith("*") and (_is_include(line) or data_keyword)):
             yield path, number, line
@@ -106,6 +108,21 @@ def _lines(path: Path, job: Path, chain: list[Path]) -> Iterator[tuple[Path, int
                 "itself without end; remove the *INCLUDE that closes the cycle"
             )
         yield from _lines(included, job, [*chain, resolved])
+
+
+def _keyword_lines_joined(lines: list[str]) -> Iterator[tuple[int, str]]:
+    """(1-based number, line) of ``lines``, a keyword line that ends with a comma joined with
+    the lines that continue it (Abaqus "Input syntax rules": a keyword line continues on the
+    next line when it ends with a comma), numbered as its first line."""
+    number = 0
+    while number < len(lines):
+        line, first = lines[number], number + 1
+        number += 1
+        if line.startswith("*") and not line.startswith("**"):
+            while line.rstrip().endswith(",") and number < len(lines):
+                line = line.rstrip() + " " + lines[number].strip()
+                number += 1
+        yield first, line
 
 
 def _is_include(line: str) -> bool:

@@ -21,13 +21,21 @@ with ELSET holds the nodes of the elements of the element sets it lists.
 from __future__ import annotations
 
 from bisect import bisect_right
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
 
 from femcore.inp_include import deck_lines
-from femcore.inp_lines import ELEMENT_NODES, element_type_refusal, node_line
+from femcore.inp_lines import (
+    element_type_refusal,
+    meshio_element_type,
+    node_line,
+    nodes_per_element,
+    read_as_note,
+)
+from femcore.inp_scope import DeckScopes
 
 __all__ = ["DeckSets", "resolve_deck_sets", "scan_deck_sets"]
 
@@ -70,6 +78,11 @@ class DeckSets:
         as the deck first writes it, which the mesh's set takes.
     normals_at : list[tuple[int, int]]
         The places of node lines giving the direction cosines of a normal (not read).
+    read_as : list[str]
+        "deck.inp: line 8: TYPE=CPS3 (...) is read as S3, by its nodes", per *ELEMENT block
+        of a type read as another (femcore.inp_lines.read_as_note).
+    scopes : femcore.inp_scope.DeckScopes
+        The part and assembly scopes: the assembly's own nodes and sets left out.
     """
 
     files: list[Path] = field(default_factory=list)
@@ -86,6 +99,8 @@ class DeckSets:
     element_types: list[tuple[str, int, tuple[int, int]]] = field(default_factory=list)
     spellings: dict[str, str] = field(default_factory=dict)
     normals_at: list[tuple[int, int]] = field(default_factory=list)
+    read_as: list[str] = field(default_factory=list)
+    scopes: DeckScopes = field(default_factory=DeckScopes)
 
     def where(self, place: tuple[int, int]) -> str:
         """ "deck.inp: line 12", the file and the line of a place."""
@@ -122,10 +137,11 @@ def _parameters(line: str) -> tuple[str, dict[str, str]]:
     return keyword, found
 
 
-def scan_deck_sets(path: Path) -> DeckSets:
+def scan_deck_sets(path: Path, tool: bool = False) -> DeckSets:
     """The sets of the deck at ``path`` and of the files it includes, as written, and its text
     without them, for meshio (its node lines as ``label, x, y, z`` in Cartesian coordinates,
-    femcore.inp_lines).
+    femcore.inp_lines). ``tool``: the deck is a rigid tool's, whose rigid and surface facets
+    are read (femcore.inp_lines.element_type_refusal).
 
     Raises
     ------
@@ -152,8 +168,22 @@ def scan_deck_sets(path: Path) -> DeckSets:
         if line.startswith("*"):
             at = (file_id, number)
             mode, parameters = _parameters(line)
+            deck.scopes.enter(mode)
+            if mode in ("NODE", "NSET", "ELSET") and deck.scopes.assembly_own(
+                mode, parameters, deck_where(file, number)
+            ):
+                mode = "LEFT OUT"  # its data lines with it (femcore.inp_scope)
+                continue
             if mode in ("NSET", "ELSET"):
                 name = deck.name(parameters.get(mode, ""), deck_where(file, number))
+                deck.scopes.check_set(mode, name, name, deck_where(file, number))
+                if mode == "NSET" and parameters.get("ELSET"):
+                    raise ValueError(
+                        f"{deck_where(file, number)}: *NSET, ELSET={parameters['ELSET']}: "
+                        "Abaqus's ELSET parameter of *NSET takes no value; the element sets "
+                        "whose nodes the set holds stand on the data lines (*NSET, NSET=name, "
+                        "ELSET, then a line 'B')"
+                    )
                 how = "GENERATE" if "GENERATE" in parameters else ""
                 how = "ELSET" if mode == "NSET" and "ELSET" in parameters else how
                 deck.sets.append((mode, name, how, at, []))
@@ -175,10 +205,19 @@ def scan_deck_sets(path: Path) -> DeckSets:
                     continue  # its lines join the first block's
                 node_at = len(keep)
                 line = "*NODE"  # its lines are Cartesian by now (SYSTEM= read)
+            if mode == "ELEMENT" and deck.scopes.scope == "assembly":
+                raise ValueError(
+                    f"{deck_where(file, number)}: *ELEMENT in the assembly, outside its "
+                    "instance: its node labels are the assembly's own (femcore.inp_scope), "
+                    "not the part's; give the elements in the part, or the tool in a file "
+                    'of its own ([[contact]] tool = "surface", file = ...)'
+                )
             if mode == "ELEMENT":
-                _start_element_block(deck, parameters, file, number, at)
-                line = f"*ELEMENT, TYPE={deck.element_types[-1][0].strip().upper()}"
+                _start_element_block(deck, parameters, file, number, at, tool)
+                line = f"*ELEMENT, TYPE={meshio_element_type(deck.element_types[-1][1])}"
             keep.append(line)
+            continue
+        if mode == "LEFT OUT":
             continue
         if mode in ("NSET", "ELSET"):
             items = [item.strip() for item in line.split(",") if item.strip()]
@@ -229,14 +268,23 @@ def deck_where(file: Path, number: int) -> str:
 
 
 def _start_element_block(
-    deck: DeckSets, parameters: dict[str, str], file: Path, number: int, at: tuple[int, int]
+    deck: DeckSets,
+    parameters: dict[str, str],
+    file: Path,
+    number: int,
+    at: tuple[int, int],
+    tool: bool,
 ) -> None:
-    """Open an *ELEMENT block: its type checked (femcore.inp_lines), its ELSET= noted."""
+    """Open an *ELEMENT block: its type checked (femcore.inp_lines; a tool's file takes rigid
+    facets), its ELSET= noted."""
     written = parameters.get("TYPE", "")
-    refusal = element_type_refusal(written)
+    refusal = element_type_refusal(written, tool)
     if refusal:
         raise ValueError(f"{deck_where(file, number)}: *ELEMENT: {refusal}")
-    deck.element_types.append((written, ELEMENT_NODES[written.strip().upper()], at))
+    note = read_as_note(written)
+    if note:
+        deck.read_as.append(f"{deck_where(file, number)}: {note}")
+    deck.element_types.append((written, nodes_per_element(written, tool), at))
     deck.element_numbers.append([])
     deck.element_lines.append([])
     if parameters.get("ELSET"):
@@ -376,12 +424,12 @@ def resolve_deck_sets(deck: DeckSets) -> tuple[dict[str, np.ndarray], dict[str, 
                     ids.append(node_index[nodes.find(labels_of)])
             point_sets[name] = np.unique(np.concatenate(ids))
         elif kind == "NSET":
-            found = nodes.defined(labels, f"{what} names node")
+            found = nodes.defined(labels, f"{what} names node", _line_of(deck, how, data))
             ids = [node_index[found]]
             ids += [point_sets[member] for member in [*members, name] if member in point_sets]
             point_sets[name] = np.unique(np.concatenate(ids))
         else:
-            found = elements.defined(labels, f"{what} names element")
+            found = elements.defined(labels, f"{what} names element", _line_of(deck, how, data))
             cell_sets[name] = [
                 np.unique(
                     np.concatenate(
@@ -413,15 +461,36 @@ class _Labels:
             return np.full(len(query), -1, dtype=np.int64)
         return np.where(self.sorted[at] == query, self.order[at], -1)
 
-    def defined(self, wanted: list[int], names: str) -> np.ndarray:
+    def defined(
+        self, wanted: list[int], names: str, line_of: Callable[[int], str] | None = None
+    ) -> np.ndarray:
         """``find``, or ValueError "<names> <label> (and k more), which the deck does not
-        define" for the first wanted label that is not one."""
+        define (on <line_of(label)>)" for the first wanted label that is not one."""
         found = self.find(wanted)
         missing = np.asarray(wanted, dtype=np.int64)[found < 0].tolist()
         if missing:
             more = f" (and {len(missing) - 1} more)" if len(missing) > 1 else ""
-            raise ValueError(f"{names} {missing[0]}{more}, which the deck does not define")
+            on = f" (its data line: {line_of(missing[0])})" if line_of else ""
+            raise ValueError(f"{names} {missing[0]}{more}, which the deck does not define{on}")
         return found
+
+
+def _line_of(deck: DeckSets, how: str, data: list) -> Callable[[int], str]:
+    """The place of the first data line of a set that lists (or generates) a label, for the
+    message refusing a label the deck does not define: the line may stand in another file
+    than the keyword's (INPUT=)."""
+
+    def line_of(label: int) -> str:
+        for place, items in data:
+            if how == "GENERATE":
+                listed = label in _generated(items, deck.where(place))
+            else:
+                listed = any(item.lstrip("+-").isdigit() and int(item) == label for item in items)
+            if listed:
+                return deck.where(place)
+        return "?"
+
+    return line_of
 
 
 def _generated(items: list[str], where: str) -> list[int]:

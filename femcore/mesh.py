@@ -160,7 +160,6 @@ class Mesh(ReadOnlyState):
         cell_sets: Mapping[str, Mapping[str, ArrayLike] | None] | None = None,
         fold_set_names: bool = False,
     ) -> None:
-        self._fold_set_names = bool(fold_set_names)
         given_cells = by_kind(
             CELL_KINDS, cells, "cells", {"triangle": triangles, "line": lines}, _LEGACY_CELLS
         )
@@ -188,6 +187,7 @@ class Mesh(ReadOnlyState):
             what = _LEGACY_SETS.get(kind, f"cell_sets[{kind!r}]")
             for name, ids in as_mapping(given_sets.get(kind), what).items():
                 self.add_cell_set(kind, name, ids)
+        self._fold_set_names = bool(fold_set_names)  # after the given sets: a deck's own
 
     # ----------------------------------------------------------------------------------------
     # Read-only data
@@ -319,9 +319,9 @@ class Mesh(ReadOnlyState):
         Raises
         ------
         ValueError
-            Invalid or already used name, ids out of range, or a mask of the wrong shape.
+            Invalid or used name (up to case and blanks on a deck's mesh), bad ids or mask.
         """
-        add_set(self._node_sets, "node set", name, ids, self.n_nodes, "node")
+        add_set(self._node_sets, "node set", name, ids, self.n_nodes, "node", self.fold_set_names)
 
     def add_cell_set(self, kind: str, name: str, ids: ArrayLike) -> None:
         """Add a new set of cells of one kind.
@@ -343,8 +343,8 @@ class Mesh(ReadOnlyState):
             wrong shape.
         """
         kind = known_kind(kind, CELL_KINDS)
-        label = CELL_KINDS[kind].set_label
-        add_set(self._cell_sets[kind], label, name, ids, len(self._cells[kind]), kind)
+        store, label = self._cell_sets[kind], CELL_KINDS[kind].set_label
+        add_set(store, label, name, ids, len(self._cells[kind]), kind, self.fold_set_names)
 
     def add_element_set(self, name: str, ids: ArrayLike) -> None:
         """Add a new triangle set: ``add_cell_set("triangle", name, ids)``.
@@ -725,7 +725,7 @@ class Mesh(ReadOnlyState):
         its blanks is one set, named as the deck first writes it and found by any such
         spelling (``fold_set_names``); a coordinate left out or blank is 0, SYSTEM=C nodes
         (r, theta deg, z) are converted; data lines may stand in an INPUT= file; shells
-        (S3, S4 families) and two-node trusses and beams are read (femcore.inp_lines).
+        (S3, S4 families; gmsh's CPS3, S3T.. with a warning) and trusses/beams are read.
 
         Parameters
         ----------
@@ -747,9 +747,9 @@ class Mesh(ReadOnlyState):
             including itself again (naming the including file and line), an
             assembly of several *INSTANCE entries or a moved one, a set naming a set, a
             node or an element the deck does not define, a GENERATE line that is not
-            ``first, last[, increment]``, an element repeating a node, a rigid, surface,
-            membrane or continuum element type, an empty *ELEMENT block, SYSTEM=S, a keyword
-            that makes or moves nodes or elements (*NGEN, *ELGEN, *SYSTEM, ...), a line that
+            ``first, last[, increment]``, an element repeating a node, a rigid (a tool's:
+            RigidSurface), membrane, continuum or second-order type, an empty *ELEMENT block,
+            SYSTEM=S, a keyword making or moving nodes (*NGEN, *ELGEN, *SYSTEM, ...), a line that
             is not numbers (each naming the file and the line: femcore.inp_sets), two gmsh
             physical groups of one name or one whose name a set cannot take (naming the
             file and the groups), a mesh too large for the memory available

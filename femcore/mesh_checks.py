@@ -17,6 +17,8 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike
 
+from femcore.set_names import abaqus_key
+
 __all__ = [
     "COORDINATE_LIMIT",
     "MIN_EXTENT",
@@ -155,7 +157,13 @@ def as_mapping(given: Mapping[str, ArrayLike] | None, what: str) -> Mapping[str,
 
 
 def add_set(
-    store: dict[str, np.ndarray], what: str, name: str, ids: ArrayLike, size: int, item: str
+    store: dict[str, np.ndarray],
+    what: str,
+    name: str,
+    ids: ArrayLike,
+    size: int,
+    item: str,
+    fold: bool = False,
 ) -> None:
     """Check a new set's name and ids and add it to ``store`` as sorted unique int64 ids.
 
@@ -173,13 +181,24 @@ def add_set(
         Number of items (nodes or cells of the kind).
     item : str
         How messages name one item, e.g. "node" or "triangle".
+    fold : bool
+        The mesh finds its sets as Abaqus reads names (a deck's mesh, femcore.set_names):
+        a name equal to a set's up to case and blanks is that set's, so it is used too.
 
     Raises
     ------
     ValueError
-        An invalid or used name, ids out of range, or a mask of the wrong shape.
+        An invalid or used name (up to case and blanks when ``fold``), ids out of range, or
+        a mask of the wrong shape.
     """
     name = _check_set_name(name, what, store)
+    same = [known for known in store if abaqus_key(known) == abaqus_key(name)] if fold else []
+    if same:
+        raise ValueError(
+            f"{what} name {name!r} is already used, as {same[0]!r}: this mesh, read from an "
+            "Abaqus deck, reads set names as Abaqus does, in any case and without blanks "
+            f"(femcore.set_names), so {name!r} would name that set; choose another name"
+        )
     store[name] = _set_ids(ids, size, item, f"{what} {name!r}")
 
 

@@ -19,6 +19,7 @@ from numpy.typing import ArrayLike
 from femcore.checks import as_path
 from femcore.inp_deck import DeckScan, scan_deck
 from femcore.inp_sets import resolve_deck_sets, scan_deck_sets
+from femcore.inp_write import FIELD_WIDTH, node_block, quote_set_names
 from femcore.memory import check_mesh_memory
 from femcore.mesh import CELL_KINDS, Mesh
 from femcore.mesh_checks import sorted_unique
@@ -35,9 +36,12 @@ _NATIVE_SET_FORMATS = {"abaqus"}
 _NODE_MASK = "nset:"
 
 
-def read_mesh(path: str | Path, file_format: str | None = None) -> Mesh:
+def read_mesh(path: str | Path, file_format: str | None = None, tool: bool = False) -> Mesh:
     """Read a mesh file through meshio: the implementation of :meth:`Mesh.read`, which
-    documents the formats, the sets read back and the errors."""
+    documents the formats, the sets read back and the errors. ``tool=True`` reads a rigid
+    tool's file (elements.RigidSurface): an Abaqus deck's rigid and surface facets (R3D3,
+    R3D4, SFM3D3, SFM3D4, SFM3D4R) are read as its triangles, where a body's deck refuses
+    them (femcore.inp_lines)."""
     path = as_path(path, "Mesh.read path")
     if path.is_dir():
         raise ValueError(f"mesh file {path} is a directory; expected a mesh file in it")
@@ -50,7 +54,7 @@ def read_mesh(path: str | Path, file_format: str | None = None) -> Mesh:
         _check_physical_names(path)
     # A deck's sets are read here by Abaqus's rules, its *INCLUDE files in place
     # (femcore.inp_sets, femcore.inp_include), meshio reading its nodes and elements only.
-    own_sets = scan_deck_sets(path) if fmt == "abaqus" else None
+    own_sets = scan_deck_sets(path, tool) if fmt == "abaqus" else None
     try:
         if own_sets is None:
             raw = meshio.read(path, file_format=fmt)
@@ -87,11 +91,23 @@ def read_mesh(path: str | Path, file_format: str | None = None) -> Mesh:
     check_mesh_memory(n_cells, len(raw.points), f"the mesh of {path}")
     mesh = _mesh_from_meshio(raw, str(path), fold_set_names=own_sets is not None)
     if own_sets is not None and own_sets.normals_at:
+        more = len(own_sets.normals_at) - 1
+        others = f" (and {more} more *NODE line{'s' if more > 1 else ''})" if more else ""
         warnings.warn(
-            f"{path}: {own_sets.where(own_sets.normals_at[0])} (and "
-            f"{len(own_sets.normals_at) - 1} more *NODE lines) gives the direction cosines "
+            f"{own_sets.where(own_sets.normals_at[0])}{others} gives the direction cosines "
             "of a normal after the coordinates; the reader leaves them: a shell's normals "
             "come from its elements (docs/theory.md)",
+            UserWarning,
+            stacklevel=3,
+        )
+    left_out = own_sets.scopes.warning() if own_sets is not None else None
+    if left_out:
+        warnings.warn(left_out, UserWarning, stacklevel=3)
+    for note in own_sets.read_as if own_sets is not None else []:
+        warnings.warn(
+            f"{note}: the deck's elements are read as the shell's (or the tool's) cells, and "
+            "its sections never are; if the deck is a plane-stress or thermal model, it is "
+            "not one here",
             UserWarning,
             stacklevel=3,
         )
@@ -159,7 +175,7 @@ def write_mesh(mesh: Mesh, path: str | Path, file_format: str | None = None) -> 
     try:
         meshio.write(path, out, file_format=fmt, **options)
         if fmt == "abaqus":
-            _abaqus_element_types(path, kinds)
+            _abaqus_element_types(path, mesh, kinds)
     except meshio.WriteError as err:
         raise ValueError(f"cannot write {path} as {fmt!r}: {err}") from err
     except OSError as err:
@@ -172,9 +188,11 @@ def write_mesh(mesh: Mesh, path: str | Path, file_format: str | None = None) -> 
 _ABAQUS_TYPES = {"triangle": "S3", "line": "T3D2", "quad": "S4"}
 
 
-def _abaqus_element_types(path: Path, kinds: list[str]) -> None:
-    """Rewrite the *ELEMENT lines meshio wrote at ``path`` with the types of _ABAQUS_TYPES
-    (meshio writes each block's keyword line as ``*ELEMENT, TYPE=<its type>`` alone)."""
+def _abaqus_element_types(path: Path, mesh: Mesh, kinds: list[str]) -> None:
+    """Rewrite what meshio wrote at ``path`` so that Abaqus and CalculiX read the mesh as it
+    is (femcore.inp_write): the *NODE lines with numbers of at most 20 characters, the
+    *ELEMENT lines with the types of _ABAQUS_TYPES (meshio writes each block's keyword line
+    as ``*ELEMENT, TYPE=<its type>`` alone), set names with blanks quoted."""
     text = path.read_text(encoding="utf-8")
     for kind in dict.fromkeys(kinds):
         name = CELL_KINDS[kind].meshio_name
@@ -182,7 +200,18 @@ def _abaqus_element_types(path: Path, kinds: list[str]) -> None:
         text = text.replace(
             f"\n*ELEMENT, TYPE={written}\n", f"\n*ELEMENT, TYPE={_ABAQUS_TYPES[name]}\n"
         )
-    path.write_text(text, encoding="utf-8")
+    head, _, rest = text.partition("\n*NODE\n")
+    nodes, inexact = node_block(mesh.points)
+    text = head + "\n*NODE\n" + nodes + rest[rest.index("*ELEMENT") :]
+    path.write_text(quote_set_names(text), encoding="utf-8")
+    if inexact:
+        warnings.warn(
+            f"{path}: {inexact} coordinate(s) need 17 significant digits and an exponent, "
+            f"more than the {FIELD_WIDTH} characters CalculiX reads per number: written "
+            "rounded to fewer digits (a few units in the last place)",
+            UserWarning,
+            stacklevel=4,
+        )
 
 
 def _native_sets(mesh: Mesh, kinds: list[str]) -> dict[str, Any]:

@@ -21,11 +21,24 @@ def abaqus_key(name: str) -> str:
 
 def set_named(names: Iterable[str], name: str, fold: bool) -> str:
     """The set ``name`` means among ``names``: itself when it is one or when ``fold`` is
-    False, else the one name equal to it up to case and blanks (``name`` itself when none or
-    several are, for the caller's unknown-set message)."""
+    False, else the one name equal to it up to case and blanks (``name`` itself when none
+    is, for the caller's unknown-set message). Every lookup of a set by a user's name goes
+    through here (Mesh.nodes, Model.add, PlyContact).
+
+    Raises
+    ------
+    ValueError
+        When ``fold`` and several names equal ``name`` up to case and blanks (a mesh whose
+        sets were given so; Mesh.add_node_set and add_cell_set refuse the second one).
+    """
     names = list(names)
     if not fold or name in names:
         return name
     key = abaqus_key(name)
     matches = [known for known in names if abaqus_key(known) == key]
-    return matches[0] if len(matches) == 1 else name
+    if len(matches) > 1:
+        raise ValueError(
+            f"the set name {name!r} is ambiguous: the sets {matches} are all it, read as "
+            "Abaqus reads names (in any case and without blanks); rename all but one"
+        )
+    return matches[0] if matches else name

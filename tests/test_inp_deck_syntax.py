@@ -75,18 +75,18 @@ def test_names_of_a_mesh_not_read_from_a_deck_stay_exact(tmp_path):
     [
         (
             "R3D3, ELSET=DIE\n101, 1, 2, 4",
-            r"TYPE=R3D3 is a rigid element: .* separate surface .*"
+            r"TYPE=R3D3 is a rigid element: .* a file of its own, read as a rigid tool .*"
             r"shell's own triangles .* write TYPE=S3",
         ),
         ("R3D4\n101, 1, 2, 4, 3", r"TYPE=R3D4 is a rigid element"),
         ("M3D3\n101, 1, 2, 4", r"TYPE=M3D3 is a membrane element"),
         ("SFM3D3\n101, 1, 2, 4", r"TYPE=SFM3D3 is a surface element"),
-        ("CPS3\n101, 1, 2, 4", r"TYPE=CPS3 is a plane or axisymmetric continuum element"),
+        ("CPE3\n101, 1, 2, 4", r"TYPE=CPE3 is a plane or axisymmetric continuum element"),
         ("CAX3\n101, 1, 2, 4", r"TYPE=CAX3 is a plane or axisymmetric continuum element"),
         ("C3D4\n101, 1, 2, 4, 3", r"TYPE=C3D4 is a continuum or continuum shell element"),
         ("XYZ3\n101, 1, 2, 4", r"TYPE=XYZ3 is not a type the reader takes \(S3, "),
     ],
-    ids=["R3D3", "R3D4", "M3D3", "SFM3D3", "CPS3", "CAX3", "C3D4", "unknown"],
+    ids=["R3D3", "R3D4", "M3D3", "SFM3D3", "CPE3", "CAX3", "C3D4", "unknown"],
 )
 def test_an_element_type_that_is_not_a_shell_or_a_truss_is_refused_naming_it(
     tmp_path, element, said
@@ -215,9 +215,11 @@ def test_the_direction_cosines_of_a_normal_after_the_coordinates_are_left_with_a
     tmp_path,
 ):
     text = "*NODE\n1, 0., 0., 0., 0., 0., 1.\n2, 50., 0., 0.\n3, 0., 40., 0.\n"
-    with pytest.warns(UserWarning, match=r"line 2 \(and 0 more \*NODE lines\) gives the direc"):
+    with pytest.warns(UserWarning, match=r"deck.inp: line 2 gives the direction cosines") as seen:
         mesh = Mesh.read(deck(tmp_path, text + "*ELEMENT, TYPE=S3\n1, 1, 2, 3\n"))
     assert mesh.points.tolist() == [[0, 0, 0], [50, 0, 0], [0, 40, 0]]
+    said = str(seen[0].message)
+    assert said.count("deck.inp") == 1 and "more" not in said  # the path once, no "0 more"
 
 
 def test_a_keyword_line_in_a_file_of_data_lines_is_refused_naming_both(tmp_path):
@@ -231,8 +233,44 @@ def test_a_quoted_name_is_read_as_written_and_one_clashing_with_another_set_refu
     text = NODES + SKIN + '*NSET, NSET="My Tip"\n2\n*NSET, NSET="My TIP"\n4\n'
     mesh = Mesh.read(deck(tmp_path, text))
     assert mesh.node_sets["My Tip"].tolist() == [1] and mesh.node_sets["My TIP"].tolist() == [3]
+    with pytest.raises(ValueError, match=r"'my tip' is ambiguous: the sets \['My Tip', 'My TIP'\]"):
+        mesh.nodes("my tip")  # an unquoted name: either set, as Abaqus reads it
     with pytest.raises(
         ValueError,
         match=r"deck.inp: line 11: the deck names two sets 'Tip', one quoted \(read as written\)",
     ):
         Mesh.read(deck(tmp_path, NODES + SKIN + '*NSET, NSET=Tip\n2\n*NSET, NSET="Tip"\n4\n'))
+
+
+def test_a_node_set_with_a_valued_elset_parameter_is_refused_naming_the_line(tmp_path):
+    """*NSET, NSET=NB, ELSET=Skin gave an empty set silently: Abaqus's ELSET of *NSET takes no
+    value, the element sets stand on the data lines."""
+    text = NODES + SKIN + "*NSET, NSET=NB, ELSET=Skin\n"
+    with pytest.raises(ValueError, match=r"deck.inp: line 9: \*NSET, ELSET=Skin: .* no value"):
+        Mesh.read(deck(tmp_path, text))
+    mesh = Mesh.read(deck(tmp_path, NODES + SKIN + "*NSET, NSET=NB, ELSET\nSkin\n"))
+    assert mesh.node_sets["NB"].tolist() == [0, 1, 2, 3]
+
+
+@pytest.mark.parametrize(
+    "keyword, continued",
+    [("*ELEMENT, TYPE=S3,", "ELSET=Plate"), ("*ELEMENT,", " type=S3, elset=Plate")],
+    ids=["element", "type"],
+)
+def test_a_keyword_line_ending_with_a_comma_continues_on_the_next(tmp_path, keyword, continued):
+    """Abaqus "Input syntax rules": refused before as 'expected integers' at the second line."""
+    text = NODES + f"{keyword}\n{continued}\n1, 1, 2, 4\n2, 1, 4, 3\n*NSET,\n NSET=Tip\n2, 4\n"
+    mesh = Mesh.read(deck(tmp_path, text))
+    assert mesh.triangles.tolist() == [[0, 1, 3], [0, 3, 2]]
+    assert mesh.element_sets["Plate"].tolist() == [0, 1]
+    assert mesh.node_sets["Tip"].tolist() == [1, 3]
+    with pytest.raises(ValueError, match=r"deck.inp: line 10: element 3 names node 9"):
+        Mesh.read(deck(tmp_path, text.replace("*NSET,", "3, 1, 2, 9\n*NSET,")))
+
+
+def test_an_unknown_label_in_a_data_file_is_refused_naming_its_line(tmp_path):
+    """Was reported at the keyword line of the main deck only."""
+    (tmp_path / "tip.txt").write_text("1, 2\n3, 99\n")
+    text = NODES + SKIN + "*NSET, NSET=Tip, INPUT=tip.txt\n"
+    with pytest.raises(ValueError, match=r"names node 99, .* \(its data line: .*tip.txt: line 2\)"):
+        Mesh.read(deck(tmp_path, text))
