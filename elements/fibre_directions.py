@@ -13,7 +13,7 @@ import numpy as np
 
 from femcore.field_names import name_components
 
-__all__ = ["fibre_components", "fibre_directions"]
+__all__ = ["block_fibre_directions", "fibre_components", "fibre_directions"]
 
 for _name in ("warp_direction", "weft_direction"):
     name_components(_name, ("x", "y", "z"))  # global axes
@@ -73,3 +73,13 @@ def fibre_directions(
     with np.errstate(invalid="ignore", divide="ignore"):
         fibres /= np.linalg.norm(fibres, axis=-1, keepdims=True)
     return {"warp_direction": fibres[:, 0], "weft_direction": fibres[:, 1]}
+
+
+def block_fibre_directions(block, state) -> dict[str, np.ndarray]:
+    """A fabric block's warp_direction and weft_direction (m, 3) at ``state`` (its cells'
+    ``fibre_components`` on its ``connectivity``); none for a block pickled before it kept
+    their components (a checkpoint of an earlier run)."""
+    components = getattr(block, "fibre_components", None)
+    if components is None:
+        return {}
+    return fibre_directions(state.positions, block.connectivity, components)

@@ -29,7 +29,7 @@ import numpy as np
 
 from elements.base import CellTangent
 from elements.fabric_section import FabricSection, fibre_rows, response
-from elements.fibre_directions import fibre_components, fibre_directions
+from elements.fibre_directions import block_fibre_directions, fibre_components
 from elements.mindlin import _IN_PLANE, MindlinShellBlock
 from elements.mindlin_fabric_loads import fabric_cell_loads
 from elements.mindlin_fabric_measures import fabric_section_measures
@@ -376,13 +376,5 @@ class MindlinFabricBlock(MindlinShellBlock):
             "warp_moment": answer.moments[:, 0],
             "weft_moment": answer.moments[:, 1],
             # the deformed fibres (unit, global axes): what "11" and "22" are taken along
-            **self._fibre_directions(state),
+            **block_fibre_directions(self, state),
         }
-
-    def _fibre_directions(self, state: State) -> dict[str, np.ndarray]:
-        """warp_direction and weft_direction (m, 3) (elements/fibre_directions.py); none for
-        a block pickled before it kept their components (a checkpoint of an earlier run)."""
-        components = getattr(self, "fibre_components", None)
-        if components is None:
-            return {}
-        return fibre_directions(state.positions, self.connectivity, components)

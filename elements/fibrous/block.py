@@ -15,7 +15,7 @@ import numpy as np
 
 from elements import kernels as node_kernels
 from elements.base import ElementBlock
-from elements.fibre_directions import fibre_components, fibre_directions
+from elements.fibre_directions import block_fibre_directions, fibre_components
 from elements.fibrous import (
     bending,
     geometry,
@@ -569,16 +569,8 @@ class FibrousShellBlock(ElementBlock):
             # no twisting moment in the fibrous shell: M12 = 0
             "bending_moment": np.column_stack([m_warp, m_weft, np.zeros_like(m_warp)]),
             # the deformed fibres (unit, global axes): what "11" and "22" are taken along
-            **self._fibre_directions(state),
+            **block_fibre_directions(self, state),
         }
-
-    def _fibre_directions(self, state: State) -> dict[str, np.ndarray]:
-        """warp_direction and weft_direction (m, 3) (elements/fibre_directions.py); none for
-        a block pickled before it kept their components (a checkpoint of an earlier run)."""
-        components = getattr(self, "fibre_components", None)
-        if components is None:
-            return {}
-        return fibre_directions(state.positions, self.connectivity, components)
 
     def node_fields(self, state: State, history=None) -> dict[str, np.ndarray]:
         if self.compiled and self.nodal_normals:  # from the compiled normal sums
