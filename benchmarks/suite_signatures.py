@@ -139,14 +139,21 @@ block's read-only faces in the chained calls (0.3, 0.1 and 0.5 s). The largest c
 level_kernels ``_gradient_cells`` 1.99, tangent_kernels ``_normal_pull_cells`` 1.96; 26
 kernels of 1 s or more, 62.3 s in all; 118 builds under 0.5 s, 25.0 s. By package: fibrous
 35.8 s, ply contact 31.3, Mindlin and the fabric section 23.0, solvers 10.7, femcore 6.5.
-With the section's laws spliced once (elements/fabric_section_kernels.py), the same sample at
-load 7.9-9.7: the command's CPU 161.5 s, 99.8 s compiling, ``_response_cells`` 4.22 s (the
-rest of the difference is the load's), 180 compilations, the same 5 second builds.
+With the laws spliced once in the fabric section's response and in the fibrous Hessian's
+cells (elements/fabric_section_kernels.py, fibrous/hessian_kernels.py), the same sample run
+at the same time as 4cc9eb3's (a fresh export of each, each on its own empty cache, load
+6.8-9.3): the command's CPU 176.5 -> 163.9 s, compiling 109.8 -> 99.8 s (180 compilations
+each, the same 5 second builds), ``_response_cells`` 9.99 -> 4.28 s, ``_hessian_cells``
+6.25 -> 3.53 s; wall 685 -> 669 s.
 
 The waits (``--log`` prints them: a process waiting for another's build of a kernel, under
-femcore/compile_lock.py): in that sample one, 1.1 s (fibrous ``_bending_sides``), in a run
-of 319 s of wall. A warm-up that compiled the kernels in the pytest controller on both cores
-before the workers start would thus shorten the wall by at most that idle second: the
+femcore/compile_lock.py): in the sample with the section's change alone, one, 1.1 s
+(fibrous ``_bending_sides``), in 319 s of wall at load 7.9-9.7; in the two runs side by side
+above (4cc9eb3's, then this), 2 waits, 13.9 s, and 6
+waits, 30.3 s (the ply friction pass's ``_history`` 13.9 and 16.9 s: its holder compiled
+slowly on the shared cores, which the waiting process's core served meanwhile). A warm-up
+that compiled the kernels in the pytest controller on both cores before the workers start
+would shorten the wall by at most such idle time, where nothing else had the core: the
 workers compile each kernel once between them already, and the CPU of the compilations
 themselves stays whoever does them (in CI the coarse report's two jobs run beside the two
 workers from the start, so a core left by a waiting process is taken by another). Not made.
