@@ -121,6 +121,43 @@ loops are compiled (benchmarks/kernel_pairs.py --ref 1620fbc, 100352 cells, one 
 rounds, load 4.8: force new / old 1.050, quartiles 1.037-1.062; force and energy 1.066,
 1.059-1.088): 2 s of compiling once against 5 % of every fibrous step.
 
+A sample of the suite as CI runs it, 13 modules (tests/test_bias_extension.py,
+test_bad_input_more.py, test_identify.py, test_mindlin.py, test_explicit.py, test_plies.py,
+test_ply_kernels.py, test_static.py, test_contact.py, test_gershgorin.py, test_fibrous.py,
+test_relaxation.py, test_mindlin_fabric.py; ``--run -- python -m pytest -n 2 -p no:randomly
+...``, one numba thread, a fresh cache), main 4cc9eb3, load 8.3 -> 15 with other jobs: 427
+tests, the command's CPU 171.4 s, of it 109.6 s compiling the project's kernels (180
+compilations in the two workers and the fit's Dask worker): compiling is two thirds of this
+sample's CPU. No signature compiled in two processes; 5 builds a kernel's second: law_row's
+(kept, above) and ply_face_points ``_points``, ``_toward`` and ply_search ``_moves``, each
+built for the fused front pass's writable outputs (elements/ply_facing_front.py) beside the
+block's read-only faces in the chained calls (0.3, 0.1 and 0.5 s). The largest compilations
+(CPU s): fabric_section_kernels ``_response_cells`` 9.57 (its laws spliced 11 times), fibrous
+``_hessian_cells`` 6.10, ``_cells_pass`` 5.12, ply_load_kernels ``_loads`` 3.92, level_lanes
+``law_row`` 3.90 (3 builds), the Mindlin fabric tangent's cells 3.17 and elastic tangent's
+2.95, tangent_pattern ``_pattern_arrays`` 2.31, ply_choice ``_choose`` 2.29, fibrous
+level_kernels ``_gradient_cells`` 1.99, tangent_kernels ``_normal_pull_cells`` 1.96; 26
+kernels of 1 s or more, 62.3 s in all; 118 builds under 0.5 s, 25.0 s. By package: fibrous
+35.8 s, ply contact 31.3, Mindlin and the fabric section 23.0, solvers 10.7, femcore 6.5.
+With the laws spliced once in the fabric section's response and in the fibrous Hessian's
+cells (elements/fabric_section_kernels.py, fibrous/hessian_kernels.py), the same sample run
+at the same time as 4cc9eb3's (a fresh export of each, each on its own empty cache, load
+6.8-9.3): the command's CPU 176.5 -> 163.9 s, compiling 109.8 -> 99.8 s (180 compilations
+each, the same 5 second builds), ``_response_cells`` 9.99 -> 4.28 s, ``_hessian_cells``
+6.25 -> 3.53 s; wall 685 -> 669 s.
+
+The waits (``--log`` prints them: a process waiting for another's build of a kernel, under
+femcore/compile_lock.py): in the sample with the section's change alone, one, 1.1 s
+(fibrous ``_bending_sides``), in 319 s of wall at load 7.9-9.7; in the two runs side by side
+above (4cc9eb3's, then this), 2 waits, 13.9 s, and 6
+waits, 30.3 s (the ply friction pass's ``_history`` 13.9 and 16.9 s: its holder compiled
+slowly on the shared cores, which the waiting process's core served meanwhile). A warm-up
+that compiled the kernels in the pytest controller on both cores before the workers start
+would shorten the wall by at most such idle time, where nothing else had the core: the
+workers compile each kernel once between them already, and the CPU of the compilations
+themselves stays whoever does them (in CI the coarse report's two jobs run beside the two
+workers from the start, so a core left by a waiting process is taken by another). Not made.
+
 Run: python benchmarks/suite_signatures.py [FOLDER]
      python benchmarks/suite_signatures.py --log FOLDER
      python benchmarks/suite_signatures.py --run -- python -m pytest tests/test_x.py ...
@@ -130,8 +167,9 @@ folder) with a compile log in each of its Python processes (a ``sitecustomize`` 
 their PYTHONPATH: numba's ``numba:compile`` event, which numba raises for a build it does
 not find in the cache, timed in CPU, ``time.process_time``, less the builds it compiled
 inside it: a helper typed with its caller), then prints the cache's kernels with more than
-one build (above) and, from the log, each such kernel's builds with their CPU. ``--log``
-prints the log of an earlier ``--run`` (its folder is printed).
+one build (above) and, from the log, each such kernel's builds with their CPU, the largest
+compilations (``TOP``) and the waits for another process's build of a kernel (their wall
+seconds). ``--log`` prints the log of an earlier ``--run`` (its folder is printed).
 """
 
 from __future__ import annotations
@@ -191,25 +229,64 @@ def _register():
     event.register("numba:compile", Listener())
 
 
+def _name(handle):
+    # the lock file's name (the handle is os.fdopen's: its name is the descriptor)
+    try:
+        return Path(os.readlink(f"/proc/self/fd/{handle.fileno()}")).name
+    except OSError:
+        return str(handle.name)
+
+
+def _watch_locks(module):
+    # each wait for another process's compilation of a kernel (femcore/compile_lock.py): its
+    # wall seconds, logged as a record of its own ("wait"), so that the log tells how long
+    # the processes sat idle behind each other's builds
+    take = module._take
+
+    def timed(handle, wait_s):
+        started = time.monotonic()
+        taken = take(handle, wait_s)
+        waited = time.monotonic() - started
+        if waited > 0.01:
+            with open(_log, "a") as out:
+                out.write(json.dumps({"wait": waited, "lock": _name(handle),
+                                      "pid": os.getpid(), "at": time.time()}) + "\\n")
+        return taken
+
+    module._take = timed
+
+
+_WATCHED = {"numba.core.dispatcher": lambda module: _register(),
+            "femcore.compile_lock": _watch_locks}
+
+
 class _Hook(importlib.abc.MetaPathFinder):
     def find_spec(self, name, path, target=None):
-        if name != "numba.core.dispatcher":
+        if name not in _WATCHED or _busy:
             return None
-        sys.meta_path.remove(self)
-        spec = importlib.util.find_spec(name)
-        run = spec.loader.exec_module
+        _busy.append(name)
+        try:
+            spec = importlib.util.find_spec(name)
+        finally:
+            _busy.pop()
+        if spec is None:
+            return None
+        run, then = spec.loader.exec_module, _WATCHED.pop(name)
+        if not _WATCHED:
+            sys.meta_path.remove(self)
 
         def exec_module(module):
             run(module)
-            _register()
+            then(module)
 
         spec.loader.exec_module = exec_module
         return spec
 
 
-if "numba.core.dispatcher" in sys.modules:  # imported already (a sitecustomize run first)
-    _register()
-else:
+_busy: list = []
+for _name in [n for n in _WATCHED if n in sys.modules]:  # imported already (a sitecustomize)
+    _WATCHED.pop(_name)(sys.modules[_name])
+if _WATCHED:
     sys.meta_path.insert(0, _Hook())
 
 _here = Path(__file__).resolve().parent
@@ -223,6 +300,10 @@ except ImportError:
 finally:
     sys.path = _path
 """
+
+
+#: The largest compilations ``--log`` lists.
+TOP = 40
 
 
 def builds(index: Path) -> list[tuple]:
@@ -259,6 +340,8 @@ def read_log(folder: Path) -> None:
     records = []
     for path in sorted(folder.glob("*.jsonl")):
         records += [json.loads(line) for line in path.read_text().splitlines() if line]
+    waits = [r for r in records if "wait" in r]
+    records = [r for r in records if "wait" not in r]
     # the project's kernels (numba's own overloads, np.empty's and the like, are compiled in
     # each caller that uses them: not kernels of the project)
     records = [r for r in records if not r["module"].startswith("numba.")]
@@ -297,6 +380,17 @@ def read_log(folder: Path) -> None:
           f"{total:.1f} s of CPU; {again:.0f} a kernel's second or later signature, "
           f"{again_cpu:.1f} s; {same:.0f} a signature compiled again in another process, "
           f"{same_cpu:.1f} s")  # fmt: skip
+    # the largest compilations, each kernel's builds summed over signatures and processes
+    summed: dict[str, list[float]] = defaultdict(list)
+    for record in records:
+        summed[f"{record['module']}.{record['name']}"].append(record["cpu"])
+    print("the largest compilations (CPU s, builds):")
+    for name, cpu in sorted(summed.items(), key=lambda item: -sum(item[1]))[:TOP]:
+        print(f"  {sum(cpu):6.2f}  {len(cpu)}  {name}")
+    print(f"{len(waits)} waits for another process's build of a kernel, "
+          f"{sum(r['wait'] for r in waits):.1f} s of wall in all"
+          + "".join(f"; {r['lock']} {r['wait']:.1f} s" for r in
+                    sorted(waits, key=lambda r: -r["wait"])[:5]))  # fmt: skip
 
 
 def run(command: list[str]) -> None:
