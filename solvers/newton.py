@@ -63,7 +63,8 @@ increment goes on with the unilateral law itself, which settles the nodes whose 
 is near zero (a lift-off) where frozen sets alternate.
 
 Contact sets predicted (solvers.contact_sets): where an interaction's set is an active set of
-a bilateral penalty (the ply contact's ``static_law="active_set"``, elements/ply_active_set.py),
+a bilateral penalty (the ply contact's ``static_law="active_set"``, elements/ply_active_set.py;
+a frictionless tool contact's frozen set, elements/contact_set_model.py),
 the set of each step's end is chosen on the step's own linear model before the step is taken
 (the switched points' rank-one terms by Sherman-Morrison-Woodbury on the factors made), so
 that the step and its set agree; the line search starts again from the new set. An attempt of

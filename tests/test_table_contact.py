@@ -171,16 +171,15 @@ def test_static_lays_a_mindlin_strip_on_a_meshed_table_with_the_closed_form_over
     closed form's height to 2 % of its largest. The whole strip is in contact with the meshed
     table, the overhang too: its nodes sag below the table's plane past its edge, beside the
     table (``search_distance`` = 1e3 mm: every node's closest facet found exactly, with no
-    cached sign). Newton iterations: 31 in the first of 4 increments (the contact set found
-    from the strip laid flat: three frozen sets alternate at the lift-off, then the unilateral
-    law converges), 4 in each of the others."""
+    cached sign). Newton iterations: 4 in each of 4 increments (the contact set of each step
+    predicted on its linear model, elements/contact_set_model.py; 31 in the first before,
+    where three frozen sets alternated at the lift-off and the unilateral law went on)."""
     result = Static(increments=4, progress=False).solve(strip(table(search_distance)))
     assert result.converged
     tip, columns, rise = sag(result)
     assert tip == pytest.approx(tip_deflection(WEIGHT, BENDING, OVERHANG), rel=1e-2)
     assert_lifts_off_at_root_two_overhangs(columns, rise)
-    assert max(result.info["iterations_per_increment"][1:]) <= 6
-    assert result.info["iterations_per_increment"][0] <= 40
+    assert max(result.info["iterations_per_increment"]) <= 6
 
 
 def test_the_meshed_table_and_the_plane_hold_the_strip_alike():
@@ -277,8 +276,9 @@ def test_static_lays_a_fibrous_strip_on_a_table_with_the_closed_form_overhang():
     Tolerance of the solver 1e-6, not 1e-8: the fibre tension (1200 N/mm) leaves a round-off
     residual of 2e-11 N in the plane of the nodes on the table, 1.5e-7 of the reference force
     of the strip's weight (3.4e-3 N in all), which no Newton update removes. Newton
-    iterations: 29 in the first of 2 increments (three frozen sets alternate at the lift-off,
-    then the unilateral law), 10 in the second; about 30 s."""
+    iterations: 3 in each of 2 increments (the contact sets predicted on each step's linear
+    model; 29 and 10 before, where three frozen sets alternated at the lift-off, then the
+    unilateral law went on: about 30 s then, 2 s now)."""
     from elements import FibrousShell
     from materials import presets
 
