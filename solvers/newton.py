@@ -70,9 +70,9 @@ the set of each step's end is chosen on the step's own linear model before the s
 that the step and its set agree; the line search starts again from the new set. An attempt of
 such an interaction that fails is cut without the unilateral attempt (its
 ``unilateral_fallback``); one of a tool's contact is tried again with the sets chosen between
-iterations alone before the unilateral attempt (``_unpredicted``). The first increment of a phase of several increments of the load
-path (``run.opening``, set by solvers.load_path) is iterated with such interactions' own
-explicit law instead, no set frozen (``opening_law = "ramp"``: the ply contact's ramped
+iterations alone before the unilateral attempt (``_unpredicted``). The first increment of a
+phase of several increments of the load path (``run.opening``, set by solvers.load_path) is
+iterated with such interactions' own explicit law instead, no set frozen (``opening_law = "ramp"``: the ply contact's ramped
 penalty): there plies laid at g = 0, or an imposed step that carries hundreds of points
 through the ply below, change the set by hundreds of points an iterate and the predicted sets
 stall; the later increments freeze and predict their sets from the state it reached
