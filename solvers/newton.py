@@ -62,21 +62,21 @@ spring where it slides leaves a state far off). After MAX_CONTACT_UPDATES wrong 
 increment goes on with the unilateral law itself, which settles the nodes whose contact force
 is near zero (a lift-off) where frozen sets alternate.
 
-Contact sets predicted (solvers.contact_sets): where an interaction's set is an active set of
-a bilateral penalty (the ply contact's ``static_law="active_set"``, elements/ply_active_set.py;
-a frictionless tool contact's frozen set, elements/contact_set_model.py),
-the set of each step's end is chosen on the step's own linear model before the step is taken
-(the switched points' rank-one terms by Sherman-Morrison-Woodbury on the factors made), so
-that the step and its set agree; the line search starts again from the new set. An attempt of
-such an interaction that fails is cut without the unilateral attempt (its
-``unilateral_fallback``); one of a tool's contact is tried again with the sets chosen between
-iterations alone before the unilateral attempt (``_unpredicted``). The first increment of a
-phase of several increments of the load path (``run.opening``, set by solvers.load_path) is
-iterated with such interactions' own explicit law instead, no set frozen (``opening_law = "ramp"``: the ply contact's ramped
-penalty): there plies laid at g = 0, or an imposed step that carries hundreds of points
-through the ply below, change the set by hundreds of points an iterate and the predicted sets
-stall; the later increments freeze and predict their sets from the state it reached
-(docs/theory.md §9.3a).
+Contact sets predicted (solvers.contact_sets): where an interaction's set is an active set of a
+bilateral penalty (the ply contact's ``static_law="active_set"``, elements/ply_active_set.py; a
+frictionless tool contact's frozen set, elements/contact_set_model.py), the set of each step's
+end is chosen on the step's own linear model before the step is taken (the switched points'
+rank-one terms by Sherman-Morrison-Woodbury on the factors made), so that the step and its set
+agree; the line search starts again from the new set. An attempt of such an interaction that
+fails is cut without the unilateral attempt (its ``unilateral_fallback``); one of a tool's
+contact is tried again with the sets chosen between iterations alone before the unilateral
+attempt (``_unpredicted``). The first increment of a phase of several increments of the load
+path (``run.opening``, set by solvers.load_path) is iterated with such interactions' own
+explicit law instead, no set frozen (``opening_law = "ramp"``: the ply contact's ramped
+penalty): there plies laid at g = 0, or an imposed step that carries hundreds of points through
+the ply below, change the set by hundreds of points an iterate and the predicted sets stall;
+the later increments freeze and predict their sets from the state it reached (docs/theory.md
+§9.3a).
 
 Stalled attempts (``Static(stall_iterations=N)``, off by default; ``stalled``): an attempt
 whose residual ratio stayed above STALLED_RATIO over its last N iterations is cut at once.
