@@ -99,6 +99,7 @@ from elements.contact_history import (
 )
 from elements.contact_penalty import PENALTY_SHARE, automatic_penalty, damping_ratio
 from elements.contact_reports import penetration_report
+from elements.contact_set_model import set_model, with_set
 from elements.contact_start import check_start_gaps
 from elements.contact_tangent import friction_tangent
 from elements.node_rows import add_node_forces, distinct_nodes, row_sums, same_rows, shifted
@@ -487,6 +488,9 @@ class ContactBlock(InteractionBlock):
         return replace(
             history, active=touching, sliding=sliding, direction=direction, normal=n
         ), changed
+
+    set_model = set_model  # the frozen set's linear model (elements/contact_set_model.py)
+    with_set = staticmethod(with_set)
 
     def thaw(self, history: FrictionHistory | None):
         """The history without its frozen set (None for a frictionless contact)."""

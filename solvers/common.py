@@ -87,10 +87,12 @@ class ConvergenceError(SolverError):
 
 class IncrementFailed(Exception):
     """An increment that did not converge (caught to cut the increment); ``iterations`` and
-    ``history`` (the residual ratios) of the attempt, when known."""
+    ``history`` (the residual ratios) of the attempt, when known; ``predicted``: how many
+    contact sets the attempt predicted (solvers/newton.py)."""
 
     iterations = 0
     history: list[float] = []
+    predicted = 0
 
 
 class StepTooLong(IncrementFailed):

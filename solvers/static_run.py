@@ -122,6 +122,9 @@ class StaticRun:
         # The last converged state is a saddle that no push along its negative modes descends
         # from (solvers.saddles.judged): the next increment follows it by plain Newton.
         self.on_kept_saddle = False
+        # The contact sets not predicted (solvers/newton.py): the retry of an increment whose
+        # attempt with predicted sets failed.
+        self.sets_unpredicted = False
         self.mode: Motion | None = None  # the next arc-length increment starts along it
         self.last_motion: tuple[int, float, Motion] | None = None  # (phase, lambda, motion)
         self.phase = 0
@@ -176,6 +179,7 @@ class StaticRun:
             "round_off_converged": 0,
             "contact_set_updates": 0,
             "contact_set_fallbacks": 0,
+            "unpredicted_retries": 0,
             "augmentations": [],
             "augmented_penetration": [],
             "augmented_slip": [],

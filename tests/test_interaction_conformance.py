@@ -141,16 +141,18 @@ def test_contact_is_objective(name, friction):
 @pytest.mark.parametrize("name", TOOLS)
 def test_contact_declares_its_capabilities_as_the_protocol_says(name, friction):
     """Friction, contact sets, soft start and facets (femcore/capability_checks.py); a meshed
-    tool's facets recorded once Static's ``freeze`` has asked for them."""
+    tool's facets recorded once Static's ``freeze`` has asked for them (read before the
+    capability check, whose own probes, such as the initial history's distances that
+    ``set_model`` is asked of, are recorded too)."""
     block, state, history = contact(name, friction=friction)
     frozen, _ = block.freeze(state, history)
     block.internal_force(state, frozen)
-    check_interaction_capabilities(block, state, frozen)
-    assert block.friction == friction
     facets = block.facet_record()
     assert (facets is not None) == (name == "meshed")
     if facets is not None:
         assert facets.record.shape == (len(block.connectivity), 1)
+    check_interaction_capabilities(block, state, frozen)
+    assert block.friction == friction
 
 
 # ---------------------------------------------------------------------- a user's own

@@ -71,10 +71,17 @@ def table(search_distance: float | None = None) -> RigidSurface:
     return RigidSurface(top, search_distance=search_distance)
 
 
-def strip(tool, friction: float = 0.0, held: bool = True, stick: float | None = None) -> Model:
+def strip(
+    tool,
+    friction: float = 0.0,
+    held: bool = True,
+    stick: float | None = None,
+    penalty: float | None = PENALTY,
+) -> Model:
     """The Mindlin strip (module docstring) laid on ``tool``, its mid-surface h / 2 above the
     table, the edge x = -ON_TABLE held in its plane (ux, uy) when ``held``; ``stick`` the
-    contact's stick_stiffness (None: the default)."""
+    contact's stick_stiffness (None: the default); ``penalty`` the contact's, N/mm per node
+    (None: the automatic one)."""
     mesh = Mesh.rectangle(
         OVERHANG + ON_TABLE,
         WIDTH,
@@ -89,7 +96,7 @@ def strip(tool, friction: float = 0.0, held: bool = True, stick: float | None = 
     if held:
         model.fix(np.flatnonzero(x < -ON_TABLE + 1e-9), ("ux", "uy"))
     nodes = np.flatnonzero(x <= 1e-9) if isinstance(tool, RigidPlane) else None
-    model.contact(tool, nodes=nodes, friction=friction, penalty=PENALTY, stick_stiffness=stick)
+    model.contact(tool, nodes=nodes, friction=friction, penalty=penalty, stick_stiffness=stick)
     model.gravity((0.0, 0.0, -GRAVITY))
     return model
 
@@ -164,16 +171,15 @@ def test_static_lays_a_mindlin_strip_on_a_meshed_table_with_the_closed_form_over
     closed form's height to 2 % of its largest. The whole strip is in contact with the meshed
     table, the overhang too: its nodes sag below the table's plane past its edge, beside the
     table (``search_distance`` = 1e3 mm: every node's closest facet found exactly, with no
-    cached sign). Newton iterations: 31 in the first of 4 increments (the contact set found
-    from the strip laid flat: three frozen sets alternate at the lift-off, then the unilateral
-    law converges), 4 in each of the others."""
+    cached sign). Newton iterations: 4 in each of 4 increments (the contact set of each step
+    predicted on its linear model, elements/contact_set_model.py; 31 in the first before,
+    where three frozen sets alternated at the lift-off and the unilateral law went on)."""
     result = Static(increments=4, progress=False).solve(strip(table(search_distance)))
     assert result.converged
     tip, columns, rise = sag(result)
     assert tip == pytest.approx(tip_deflection(WEIGHT, BENDING, OVERHANG), rel=1e-2)
     assert_lifts_off_at_root_two_overhangs(columns, rise)
-    assert max(result.info["iterations_per_increment"][1:]) <= 6
-    assert result.info["iterations_per_increment"][0] <= 40
+    assert max(result.info["iterations_per_increment"]) <= 6
 
 
 def test_the_meshed_table_and_the_plane_hold_the_strip_alike():
@@ -184,6 +190,58 @@ def test_the_meshed_table_and_the_plane_hold_the_strip_alike():
     meshed = Static(increments=4, progress=False).solve(strip(table()))
     assert plane.converged and meshed.converged
     np.testing.assert_allclose(meshed.positions, plane.positions, rtol=0.0, atol=1e-9)
+
+
+@pytest.mark.parametrize("tool", ["meshed table", "plane"])
+def test_static_lays_the_strip_at_its_defaults_and_the_automatic_penalty(tool):
+    """Static at its defaults (10 increments, tol 1e-8, 50 iterations) with the contact's
+    automatic penalty (deepest sinking measured 9.4e-7 mm): the tip sags by the closed form
+    delta to 1 % (measured 3.2e-4, the discretisation's) and the strip lifts off at sqrt(2) L,
+    in at most 6 Newton iterations an increment (measured 4 in each). The lift-off front moves
+    from the edge to 17 node columns behind it in the first increment; before the contact sets
+    were predicted on each step's linear model (elements/contact_set_model.py) the frozen sets
+    and the unilateral law moved it one or two columns a Newton iteration, and the first
+    increment did not converge in 50 iterations, nor in 8 cuts."""
+    body = table() if tool == "meshed table" else RigidPlane((0, 0, 0), (0, 0, 1))
+    result = Static(progress=False).solve(strip(body, penalty=None))
+    assert result.converged
+    assert max(result.info["iterations_per_increment"]) <= 6
+    tip, columns, rise = sag(result)
+    assert tip == pytest.approx(tip_deflection(WEIGHT, BENDING, OVERHANG), rel=1e-2)
+    assert_lifts_off_at_root_two_overhangs(columns, rise)
+
+
+def test_static_lays_a_fibrous_strip_on_a_meshed_table_at_the_automatic_penalty():
+    """A FibrousShell strip of one G986 ply (the slow test below: B = 7.5 N mm per unit
+    width, linear up to a curvature of 1e-3 1/mm, 3e-4 at the edge; q = 2.8e-5 N/mm) on the
+    meshed table with the automatic penalty, Static's 10 increments: the tip sags by delta to
+    2 % (measured 0.42 %: the discretisation of the fibrous bending, 0.5 % in the slow test),
+    in at most 6 Newton iterations an increment (measured 4, then 3 in each). Tolerance 1e-6
+    for the fibre tension's round-off (the slow test's docstring): at 1e-8 the residual ratio
+    stays at 3e-7 from the fifth increment on."""
+    from elements import FibrousShell
+    from materials import presets
+
+    fabric = presets.g986_ply()
+    mesh = Mesh.rectangle(
+        OVERHANG + ON_TABLE,
+        WIDTH,
+        nx=round((OVERHANG + ON_TABLE) / CELL),
+        ny=1,
+        origin=(-ON_TABLE, 0.0, 0.5 * fabric.thickness),
+    )
+    model = Model(mesh)
+    model.add(FibrousShell(fabric))
+    x = mesh.points[:, 0]
+    model.fix(np.flatnonzero(x < -ON_TABLE + 1e-9), ("ux", "uy"))
+    model.contact(table())
+    model.gravity((0.0, 0.0, -GRAVITY))
+    result = Static(tol=1e-6, progress=False).solve(model)
+    assert result.converged
+    assert max(result.info["iterations_per_increment"]) <= 6
+    weight = fabric.areal_density * GRAVITY * WIDTH
+    tip, _, _ = sag(result)
+    assert tip == pytest.approx(tip_deflection(weight, 7.5 * WIDTH, OVERHANG), rel=2e-2)
 
 
 def test_static_lays_the_strip_on_a_rough_table_with_the_frictionless_overhang():
@@ -218,8 +276,9 @@ def test_static_lays_a_fibrous_strip_on_a_table_with_the_closed_form_overhang():
     Tolerance of the solver 1e-6, not 1e-8: the fibre tension (1200 N/mm) leaves a round-off
     residual of 2e-11 N in the plane of the nodes on the table, 1.5e-7 of the reference force
     of the strip's weight (3.4e-3 N in all), which no Newton update removes. Newton
-    iterations: 29 in the first of 2 increments (three frozen sets alternate at the lift-off,
-    then the unilateral law), 10 in the second; about 30 s."""
+    iterations: 3 in each of 2 increments (the contact sets predicted on each step's linear
+    model; 29 and 10 before, where three frozen sets alternated at the lift-off, then the
+    unilateral law went on: about 30 s then, 2 s now)."""
     from elements import FibrousShell
     from materials import presets
 
