@@ -35,7 +35,7 @@ from femcore.diagnostics import interaction_notes, unheld_rigid_motions
 from femcore.dofs import DOF_NAMES, DofManager, dof_columns
 from femcore.driven_tools import DrivenTools
 from femcore.element import ElementBlock
-from femcore.frame_branches import check_frame_branches
+from femcore.frame_branches import check_frame_branches, onto_symmetry_planes
 from femcore.interaction import Body, BodyPart, Interaction, InteractionBlock
 from femcore.memory import check_model_memory
 from femcore.mesh import CELL_KINDS
@@ -133,6 +133,8 @@ class CompiledModel(CompiledTangent):
                     "the directors declares defines_directors = True"
                 )
             self.reference_directors[self.has_rotation] = normals[self.has_rotation]
+            # a symmetry plane's directors in it, as the mirrored model's (docs/theory.md §1.2)
+            onto_symmetry_planes(model.fixes, self.reference_directors, self.has_rotation)
             # a fixed alpha or beta must name one rotation along its set (docs/theory.md §1.2)
             check_frame_branches(model.fixes, self.reference_directors, self.has_rotation)
 
