@@ -344,6 +344,9 @@ class ContactBlock(InteractionBlock):
         self.offset = offset
         self.area = area[nodes]
         self._reference = points[nodes]
+        # the body's whole mesh (the driven tool's node aside): a contact limited to a patch
+        # of it says nothing of the body's size (elements/tool_scale.py)
+        self._body_points = points if tool_node is None else np.delete(points, tool_node, axis=0)
         # A node laid on the tool touches it: its distance, computed from rotated or shifted
         # coordinates, may exceed h / 2 by a rounding error.
         self.tolerance = 1e-9 * float(np.ptp(points, axis=0).max(initial=0.0) or 1.0)
@@ -371,7 +374,7 @@ class ContactBlock(InteractionBlock):
         """ValueError when nodes start past the tool's surface, a UserWarning when they
         start overlapping it (elements/contact_start.py), or when a meshed tool's size is
         off the body's by more than a hundred times (elements/tool_scale.py)."""
-        warn_tool_scale(self.tool, self._reference)  # a tool mesh in m beside a body in mm
+        warn_tool_scale(self.tool, self._body_points)  # a tool mesh in m beside a body in mm
         d, _ = self.tool.distance(self._reference, 0.0)
         check_start_gaps(self.tool, d, self.offset, self.connectivity[:, 0], self.tolerance)
 

@@ -17,16 +17,18 @@ SCALE_FACTOR = 100.0
 
 
 def warn_tool_scale(tool, body_points: np.ndarray) -> None:
-    """Warn (UserWarning) when a meshed tool's largest extent and that of the body's contact
-    nodes differ by more than SCALE_FACTOR.
+    """Warn (UserWarning) when a meshed tool's largest extent and that of the body's mesh
+    differ by more than SCALE_FACTOR.
 
     Parameters
     ----------
     tool : elements.tools.RigidTool
         A tool with ``corners`` ((f, 3, 3) facet corners, mm: a ``RigidSurface``); any other
         tool (a plane, a sphere: no extent of its own to compare) is let through.
-    body_points : (s, 3) float, mm
-        The contact nodes' reference positions.
+    body_points : (n, 3) float, mm
+        The reference positions of the body's whole mesh, not only of the contact's nodes:
+        a contact limited to a patch of a strip (its last 5 mm over a table) is no measure of
+        the strip's size, and a table 15 times the strip is not a unit slip.
     """
     corners = getattr(tool, "corners", None)
     if corners is None or len(body_points) < 2:
@@ -47,7 +49,7 @@ def warn_tool_scale(tool, body_points: np.ndarray) -> None:
     tool_extent, body_extent = extent(tool_points), extent(np.asarray(body_points, dtype=float))
     warnings.warn(
         f"the {type(tool).__name__} spans {tool_extent} (largest {tool_size:.4g}) and the "
-        f"body's contact nodes {body_extent} (largest {body_size:.4g}): the tool is "
+        f"body's mesh {body_extent} (largest {body_size:.4g}): the tool is "
         f"{ratio:.3g} times the body's size. Are both meshes in the same unit? A mesh in "
         "metres beside one in mm is 1000 times off: scale the tool's mesh (or the body's) to "
         "the model's unit",

@@ -35,7 +35,11 @@ from femcore.diagnostics import interaction_notes, unheld_rigid_motions
 from femcore.dofs import DOF_NAMES, DofManager, dof_columns
 from femcore.driven_tools import DrivenTools
 from femcore.element import ElementBlock
-from femcore.frame_branches import check_frame_branches
+from femcore.frame_branches import (
+    check_frame_branches,
+    onto_symmetry_planes,
+    warn_named_planes,
+)
 from femcore.interaction import Body, BodyPart, Interaction, InteractionBlock
 from femcore.memory import check_model_memory
 from femcore.mesh import CELL_KINDS
@@ -133,8 +137,12 @@ class CompiledModel(CompiledTangent):
                     "the directors declares defines_directors = True"
                 )
             self.reference_directors[self.has_rotation] = normals[self.has_rotation]
+            # a symmetry plane's directors in it, as the mirrored model's (docs/theory.md §1.2)
+            onto_symmetry_planes(model.fixes, self.reference_directors, self.has_rotation)
             # a fixed alpha or beta must name one rotation along its set (docs/theory.md §1.2)
             check_frame_branches(model.fixes, self.reference_directors, self.has_rotation)
+            # a symmetry plane named by its DOFs where they hold another turn (§1.2)
+            warn_named_planes(model.fixes, mesh.points, self.reference_directors, self.has_rotation)
 
         # a fix's ``tilt`` is alpha or beta at each node by its frame (docs/theory.md §1.2)
         fixed = fixed_mask(model.fixes, active, self.reference_directors)

@@ -12,7 +12,11 @@ refuses such a fix when the model is compiled, naming the nodes and the DOF to f
 
 ``Model.fix(nodes, dofs, tilt="z")`` says what is meant instead of naming a DOF: hold the
 director's turn towards the global axis z (out of a symmetry plane z = const), which
-``tilt_columns`` resolves to alpha or beta at each node by its frame.
+``tilt_columns`` resolves to alpha or beta at each node by its frame, once
+``onto_symmetry_planes`` has laid those nodes' directors into the plane (the mirrored whole's:
+a one-sided director sits half a facet off it, where Eq. 7's frame near +-e2 swings). A plane
+named by its DOFs instead (ux and alpha on x = const) is not laid in; ``warn_named_planes``
+warns where its held DOF is not the turn out of it.
 
 Both read the reference directors. A director that turns across the cone during a run changes
 frame there, and a DOF fixed alone may then hold another rotation than it did:
@@ -22,6 +26,7 @@ with some (solvers.common.make_frame).
 
 from __future__ import annotations
 
+import warnings
 from collections.abc import Sequence
 
 import numpy as np
@@ -30,13 +35,28 @@ from scipy.spatial import cKDTree
 from femcore.entry_error import EntryError
 from femcore.rotation import FRAME_FALLBACK, cross, nodal_frames
 
-__all__ = ["BRANCH_ANGLE_DEG", "changed_meaning", "check_frame_branches", "tilt_columns"]
+__all__ = [
+    "BRANCH_ANGLE_DEG",
+    "NAMED_PLANE_DEG",
+    "changed_meaning",
+    "check_frame_branches",
+    "onto_symmetry_planes",
+    "tilt_columns",
+    "warn_named_planes",
+]
 
 #: Largest angle (deg) between the directions a fixed DOF turns the director at a node of the
 #: fallback frame and at its nearest node of the Eq. 7 frame in the same fix. Neighbours on a
 #: smooth edge differ by their facet angle (a few degrees); where the two frames name
 #: different rotations they differ by up to 90 deg (the cylinder's plane above: 90).
 BRANCH_ANGLE_DEG = 30.0
+
+#: Largest angle (deg) between the turn a named alpha or beta holds on a plane that reads as a
+#: symmetry plane and the turn out of it before ``warn_named_planes`` warns: 0 for a director
+#: in the plane, the director's own offset (half a facet: 2.8 deg at 16 cells of 5.6 deg on a
+#: hemisphere quadrant) off +-e2, 17 deg at the node where Eq. 7's frame swung near +-e2 and
+#: the quadrant's two loaded points, equivalent by symmetry, read 18 % apart.
+NAMED_PLANE_DEG = 10.0
 
 
 def check_frame_branches(fixes: Sequence, directors: np.ndarray, has_rotation: np.ndarray) -> None:
@@ -125,6 +145,124 @@ def check_frame_branches(fixes: Sequence, directors: np.ndarray, has_rotation: n
         )
 
 
+def onto_symmetry_planes(fixes: Sequence, directors: np.ndarray, has_rotation: np.ndarray) -> None:
+    """Lay the reference directors of the nodes a ``tilt`` fix holds into its symmetry plane,
+    in place: the directors the whole (mirrored) model would give them (docs/theory.md §1.2).
+
+    A node on a symmetry plane averages only its own side's facet normals, so its director
+    sits half a facet angle off the plane; the mirrored model's average is the normalised
+    projection of that sum onto the plane (n + M n = 2 P n for each facet normal n and its
+    mirror M n). In the plane, one of V1, V2 of the node's frame is the plane's normal exactly
+    and ``tilt_columns`` holds exactly the director's turn out of the plane; off it, on a plane
+    x = const near +-e2, Eq. 7's V1 = e2 x V swings with the small x-component and the held DOF
+    mixes the meridional turn into it (the quadrant of a pinched hemisphere read its two
+    loaded points, equivalent by symmetry, 18 % apart).
+
+    Parameters
+    ----------
+    fixes : sequence of femcore.loads.Fix
+        The model's fixes; those with ``tilt`` 0, 1 or 2 (x, y, z) name the planes.
+    directors : numpy.ndarray, shape (n, 3)
+        The reference unit directors, changed in place at the tilt fixes' nodes.
+    has_rotation : numpy.ndarray, shape (n,) bool
+        The nodes that carry alpha and beta (others are left to ``tilt_columns`` to refuse).
+
+    Raises
+    ------
+    EntryError
+        (a ValueError) for a director more than BRANCH_ANGLE_DEG from its plane: not a
+        symmetry plane's node (its facets do not lie across the plane), or a node on two
+        tilt planes whose director cannot lie in both.
+    """
+    for index, fix in enumerate(fixes):
+        if fix.tilt is None:
+            continue
+        nodes = np.unique(fix.nodes[has_rotation[fix.nodes]])
+        if not nodes.size:
+            continue
+        v = directors[nodes]
+        off = np.degrees(np.arcsin(np.clip(np.abs(v[:, fix.tilt]), 0.0, 1.0)))
+        far = off > BRANCH_ANGLE_DEG
+        if far.any():
+            axis = "xyz"[fix.tilt]
+            bad = nodes[far]
+            raise EntryError(
+                "fix",
+                index,
+                f"tilt = {axis!r} holds the director's turn out of a symmetry plane {axis} = "
+                f"const, and at nodes {bad[:10].tolist()}{' ...' if bad.size > 10 else ''} "
+                f"the director lies {off[far][0]:.1f} deg from that plane (e.g. "
+                f"{np.round(v[far][0], 4).tolist()}; more than {BRANCH_ANGLE_DEG:g} deg): a "
+                "symmetry plane's nodes have their directors in it, up to half a facet "
+                "angle. Is the plane's axis the right one? Elsewhere fix alpha and beta to "
+                "hold the director whole",
+            )
+        v = v.copy()
+        v[:, fix.tilt] = 0.0
+        directors[nodes] = v / np.linalg.norm(v, axis=1)[:, None]
+
+
+def warn_named_planes(
+    fixes: Sequence, points: np.ndarray, directors: np.ndarray, has_rotation: np.ndarray
+) -> None:
+    """Warn (UserWarning) where a fix that reads as a symmetry plane by named DOFs (one
+    translation, along a coordinate axis, and alpha or beta alone, on nodes of one plane
+    normal to that axis whose directors lie within BRANCH_ANGLE_DEG of it) holds at some
+    nodes a turn more than NAMED_PLANE_DEG from the turn out of the plane.
+
+    The one-sided directors of such a plane sit half a facet angle off it; near +-e2 on a
+    plane x = const Eq. 7's V1 swings with that small part (docs/theory.md §1.2), and a named
+    alpha holds part of the in-plane turn there (a hemisphere quadrant's two loaded points,
+    equivalent by symmetry, read 0.0263 and 0.0135 per newton). ``tilt`` declares the plane:
+    its directors are laid into it and the held DOF is the turn out of it.
+
+    Parameters
+    ----------
+    fixes : sequence of femcore.loads.Fix
+        The model's fixes.
+    points : numpy.ndarray, shape (n, 3)
+        The reference positions, mm.
+    directors : numpy.ndarray, shape (n, 3)
+        The reference unit directors.
+    has_rotation : numpy.ndarray, shape (n,) bool
+        The nodes that carry alpha and beta.
+    """
+    size = float(np.ptp(points, axis=0).max(initial=0.0)) or 1.0
+    least = np.cos(np.radians(NAMED_PLANE_DEG))
+    for index, fix in enumerate(fixes):
+        if fix.columns is None or fix.tilt is not None:
+            continue
+        columns = set(np.asarray(fix.columns).tolist())
+        moved, turned = columns & {0, 1, 2}, columns & {3, 4}
+        if len(moved) != 1 or len(turned) != 1:
+            continue
+        axis, column = moved.pop(), turned.pop()
+        nodes = np.unique(fix.nodes[has_rotation[fix.nodes]])
+        if nodes.size < 2 or np.ptp(points[nodes, axis]) > 1e-6 * size:
+            continue  # not one plane normal to the held translation
+        v = directors[nodes]
+        if (np.abs(v[:, axis]) > np.sin(np.radians(BRANCH_ANGLE_DEG))).any():
+            continue  # directors across the plane: an edge support, not a symmetry plane
+        v1, v2 = nodal_frames(v)
+        turns = v1 if column == 3 else v2  # alpha towards V1, beta towards -V2
+        astray = np.abs(turns[:, axis]) < least
+        if not astray.any():
+            continue
+        bad = nodes[astray]
+        name, letter = ("alpha" if column == 3 else "beta"), "xyz"[axis]
+        warnings.warn(
+            f"fix {index} holds u{letter} and {name} on the plane {letter} = const, as a "
+            f"symmetry plane, but at nodes {bad[:10].tolist()}{' ...' if bad.size > 10 else ''} "
+            f"{name} turns the director more than {NAMED_PLANE_DEG:g} deg from the turn out "
+            "of the plane: their directors (their own side's facets' average) lie a little "
+            "off the plane, and the nodal frame turns with that (docs/theory.md §1.2). "
+            f"Declare the plane instead: model.fix(nodes, ['u{letter}'], tilt='{letter}') "
+            "lays the directors into it and holds the turn out of it at every node",
+            UserWarning,
+            stacklevel=4,
+        )
+
+
 def tilt_columns(
     fix, index: int, active: np.ndarray, directors: np.ndarray | None
 ) -> tuple[np.ndarray, np.ndarray]:
@@ -152,8 +290,10 @@ def tilt_columns(
     ------
     EntryError
         (a ValueError) for nodes without rotations, or whose frame turns the director
-        towards the axis by neither DOF (within BRANCH_ANGLE_DEG): a director more than that
-        from the plane normal to the axis, where no one DOF holds that turn.
+        towards the axis by neither DOF (within BRANCH_ANGLE_DEG): a director off the plane
+        normal to the axis, whose Eq. 7 frame may be turned about it by any angle (near +-e2
+        on a plane x = const). Model.compile lays the directors into the plane first
+        (``onto_symmetry_planes``), where one of V1, V2 is the plane's normal exactly.
     """
     axis = "xyz"[fix.tilt]
     nodes = np.unique(fix.nodes)
@@ -171,14 +311,19 @@ def tilt_columns(
     neither = np.maximum(along_v1, along_v2) < least
     if neither.any():
         bad = nodes[neither]
+        first = directors[bad[0]]
+        off = np.degrees(np.arcsin(min(abs(float(first[fix.tilt])), 1.0)))
         raise EntryError(
             "fix",
             index,
             f"tilt = {axis!r}: at nodes {bad[:10].tolist()}{' ...' if bad.size > 10 else ''} "
-            f"neither alpha nor beta turns the director towards {axis} (the directors there "
-            f"lie more than {BRANCH_ANGLE_DEG:g} deg from the plane {axis} = const, e.g. "
-            f"{np.round(directors[bad[0]], 4).tolist()}): a symmetry plane's directors lie in "
-            "it; fix alpha and beta there to hold the director whole",
+            f"the nodal frame has neither V1 nor V2 within {BRANCH_ANGLE_DEG:g} deg of {axis}, "
+            f"so neither alpha nor beta alone is the director's turn out of the plane {axis} "
+            f"= const: the director (e.g. {np.round(first, 4).tolist()}, {off:.1f} deg off "
+            f"the plane) is not in the plane, and Eq. 7's V1 = e2 x V / |e2 x V| (e3 x V "
+            "within 5.7 deg of +-e2) swings with its small out-of-plane part (docs/theory.md "
+            "§1.2). Model.compile lays a tilt plane's reference directors into it "
+            "(onto_symmetry_planes) before this pick; pass directors that lie in the plane",
         )
     return nodes, np.where(along_v1 >= along_v2, 3, 4)
 
