@@ -7,8 +7,10 @@ GUARD = 0.2, a tilt of acos(0.2) = 78.5 deg from the normal, the thickness along
 h / (V . N) is capped at 5 h (``thickness_guarded`` = 1). The most common cause is a fibrous
 body whose directors nothing holds: a uniform tilt of every director over a flat region
 stretches no fibre, a zero-energy mode the quasi-static solvers leave wherever their path
-puts it (docs/theory.md §1, "Without a clamp the tilt is not decided"); a flat strip pulled
-10 % without a clamp ended 88-89 deg off the normal at the cap."""
+puts it (docs/theory.md §1, "Without a clamp the tilt is not decided"). A flat strip pulled
+10 % without a clamp ended 88-89 deg off the normal at the cap while Static's stability search
+turned along that mode; it no longer does (solvers/neutral_modes.py), and the flag stays for
+the paths that may still leave such a tilt."""
 
 from __future__ import annotations
 
