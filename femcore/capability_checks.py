@@ -155,8 +155,10 @@ def _check_strain_range(name: str, bounds: Any, columns: int) -> None:
             f"{name}.fibre_strain_range() gave shapes {lower.shape} and {upper.shape}: "
             f"({columns},) each expected, one bound per column of fibre_strains"
         )
-    if lower.dtype.kind != "f" or upper.dtype.kind != "f" or not (
-        (lower < 0.0).all() and (upper > 0.0).all()
+    if (
+        lower.dtype.kind != "f"
+        or upper.dtype.kind != "f"
+        or not ((lower < 0.0).all() and (upper > 0.0).all())
     ):
         raise AssertionError(
             f"{name}.fibre_strain_range() gave lower {lower!r} and upper {upper!r}: floats "

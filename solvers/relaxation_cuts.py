@@ -136,25 +136,32 @@ def more_increments(model: CompiledModel) -> str:
     "step" loads go in full from the first increment of a relaxation, docs/theory.md §6.4: a
     strip over a cylinder under its weight alone was told to use more increments, and
     increment 1 carried the whole weight at any count)."""
-    half = model.external_load(0.5, quasi_static=True)
-    full = model.external_load(1.0, quasi_static=True)
-    ramps = any(not np.array_equal(a, b) for a, b in zip(half, full))
-    if model.has_prescribed:
-        ramps = ramps or not np.array_equal(
-            model.prescribed_displacement(0.5, quasi_static=True),
-            model.prescribed_displacement(1.0, quasi_static=True),
-        )
-    if model.interactions and not ramps:
-        # a tool moved by its motion: its translation (InteractionBlock.tool_displacements) at
-        # two load factors, the body where it starts (a pressed strip's plane lifted 5 mm
-        # read "nothing in the model ramps")
-        start = model.initial_state()
-        histories = start.history[len(model.blocks) :]
-        ramps = any(
-            not np.array_equal(
-                part.tool_displacements(replace(start, load_factor=0.5, time=0.5), history),
-                part.tool_displacements(replace(start, load_factor=1.0, time=1.0), history),
-            )
-            for part, history in zip(model.interactions, histories)
-        )
+    full = _driven(model, 1.0)
+    ramps = any(
+        not all(np.array_equal(a, b) for a, b in zip(_driven(model, probe), full))
+        for probe in _PROBES
+    )
     return "use more increments, " if ramps else ""
+
+
+#: The load factors compared with 1 (an amplitude may hold its value over part of the run:
+#: a pull reached at 0.5 and held reads the same at 0.5 and 1).
+_PROBES = (0.25, 0.5, 0.75)
+
+
+def _driven(model: CompiledModel, load_factor: float) -> list[np.ndarray]:
+    """What drives ``model`` at ``load_factor``: its loads (a driven tool's force among them,
+    a load on its node), its prescribed displacements and its tools' motions
+    (InteractionBlock.tool_displacements, the body where it starts)."""
+    driven = list(model.external_load(load_factor, quasi_static=True))
+    if model.has_prescribed:
+        driven.append(model.prescribed_displacement(load_factor, quasi_static=True))
+    if model.interactions:
+        # a pressed strip's plane lifted 5 mm read "nothing in the model ramps"
+        at = replace(model.initial_state(), load_factor=load_factor, time=load_factor)
+        histories = at.history[len(model.blocks) :]
+        driven += [
+            part.tool_displacements(at, history)
+            for part, history in zip(model.interactions, histories)
+        ]
+    return driven
