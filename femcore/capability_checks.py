@@ -253,8 +253,16 @@ def check_interaction_capabilities(
 
 def _check_tool_reports(name: str, block: InteractionBlock, state: State, history: Any) -> None:
     """``tool_penetrations`` and ``tool_facing``: one entry per tool, each None or sound
-    (what solvers/tool_penetration.py and solvers/driven_tool_checks.py read)."""
+    (what solvers/tool_penetration.py and solvers/driven_tool_checks.py read);
+    ``tool_displacements`` (n_tools, 3) finite (what dynamic relaxation reads to tell a
+    moving tool, solvers/relaxation_cuts.py ``more_increments``)."""
     tools = int(block.n_tools)
+    moved = np.asarray(block.tool_displacements(state, history))
+    if moved.shape != (tools, 3) or not np.isfinite(moved).all():
+        raise AssertionError(
+            f"{name}.tool_displacements gave shape {moved.shape}: ({tools}, 3) finite mm "
+            "expected, one translation per tool"
+        )
     depths = block.tool_penetrations(state, history, 0.25)
     if len(depths) != tools:
         raise AssertionError(

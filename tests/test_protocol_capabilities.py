@@ -174,6 +174,7 @@ def test_a_node_cycling_across_a_users_meshed_crease_is_named():
             "finite depth >= 0",
         ),
         ({"tool_facing": lambda self, *a: [None, None, None]}, "tool_facing gave 3 entries"),
+        ({"tool_displacements": lambda self, *a: np.zeros(3)}, "tool_displacements gave shape"),
         (
             {"tool_facing": lambda self, *a: [np.ones((2, 3))] * self.n_tools},
             "not \\(s, 3\\) unit vectors",
