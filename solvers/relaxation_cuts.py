@@ -159,9 +159,5 @@ def _driven(model: CompiledModel, load_factor: float) -> list[np.ndarray]:
     if model.interactions:
         # a pressed strip's plane lifted 5 mm read "nothing in the model ramps"
         at = replace(model.initial_state(), load_factor=load_factor, time=load_factor)
-        histories = at.history[len(model.blocks) :]
-        driven += [
-            part.tool_displacements(at, history)
-            for part, history in zip(model.interactions, histories)
-        ]
+        driven.append(model.tool_displacements(at))
     return driven
