@@ -70,7 +70,8 @@ def check_element_capabilities(
       tangent parts at ``deformed``; False: the default (the solvers never ask for it);
     * ``has_fibre_strains`` a bool; True: ``fibre_strains`` its own, (m, p) finite floats
       with p >= 1 for its m cells, zero in the reference (to FIBRE_STRAIN_ROUND_OFF: it is
-      unstrained), and ``fibre_strain_gradient`` a tuple; False: neither overridden;
+      unstrained), ``fibre_strain_gradient`` a tuple and ``fibre_strain_range()`` a
+      (lower, upper) pair of (p,) floats, lower < 0 < upper; False: none overridden;
     * ``fibre_edges()`` (k, 2) integer pairs of two distinct nodes of the block's cells.
 
     Raises
@@ -95,13 +96,13 @@ def check_element_capabilities(
             f"{name} gives tangent_compression_free with compression_free_tangent False: "
             "the static solver never asks for it"
         )
-    gives = ("fibre_strains", "fibre_strain_gradient")
+    gives = ("fibre_strains", "fibre_strain_gradient", "fibre_strain_range")
     own = [overrides(block, member, ElementBlock) for member in gives]
     if _flag(block, "has_fibre_strains"):
         if not all(own):
             raise AssertionError(
-                f"{name} declares has_fibre_strains without its own fibre_strains and "
-                "fibre_strain_gradient"
+                f"{name} declares has_fibre_strains without its own fibre_strains, "
+                "fibre_strain_gradient and fibre_strain_range"
             )
         strains = np.asarray(block.fibre_strains(reference))
         m = len(block.connectivity)
@@ -118,6 +119,7 @@ def check_element_capabilities(
             )
         if not np.isfinite(np.asarray(block.fibre_strains(deformed))).all():
             raise AssertionError(f"{name}.fibre_strains of the deformed state are not finite")
+        _check_strain_range(name, block.fibre_strain_range(), strains.shape[1])
         gradient = block.fibre_strain_gradient(deformed)
         if not isinstance(gradient, tuple):
             raise AssertionError(
@@ -125,7 +127,8 @@ def check_element_capabilities(
             )
     elif any(own):
         raise AssertionError(
-            f"{name} gives fibre_strains or fibre_strain_gradient with has_fibre_strains "
+            f"{name} gives fibre_strains, fibre_strain_gradient or fibre_strain_range with "
+            "has_fibre_strains "
             "False: the static solver never asks for them"
         )
     edges = block.fibre_edges()
@@ -135,6 +138,31 @@ def check_element_capabilities(
     if not np.isin(edges, nodes).all() or (edges[:, 0] == edges[:, 1]).any():
         raise AssertionError(
             f"{name}.fibre_edges() has a pair that is not two distinct nodes of its cells"
+        )
+
+
+def _check_strain_range(name: str, bounds: Any, columns: int) -> None:
+    """``fibre_strain_range()``: two (p,) float arrays, lower < 0 < upper (the unstrained
+    reference lies inside the laws' range), p the columns of ``fibre_strains``."""
+    if not (isinstance(bounds, tuple) and len(bounds) == 2):
+        raise AssertionError(
+            f"{name}.fibre_strain_range() gave {type(bounds).__name__}: a (lower, upper) pair "
+            "expected"
+        )
+    lower, upper = (np.asarray(bound) for bound in bounds)
+    if lower.shape != (columns,) or upper.shape != (columns,):
+        raise AssertionError(
+            f"{name}.fibre_strain_range() gave shapes {lower.shape} and {upper.shape}: "
+            f"({columns},) each expected, one bound per column of fibre_strains"
+        )
+    if (
+        lower.dtype.kind != "f"
+        or upper.dtype.kind != "f"
+        or not ((lower < 0.0).all() and (upper > 0.0).all())
+    ):
+        raise AssertionError(
+            f"{name}.fibre_strain_range() gave lower {lower!r} and upper {upper!r}: floats "
+            "with lower < 0 < upper expected (the unstrained reference is in the laws' range)"
         )
 
 
@@ -225,8 +253,16 @@ def check_interaction_capabilities(
 
 def _check_tool_reports(name: str, block: InteractionBlock, state: State, history: Any) -> None:
     """``tool_penetrations`` and ``tool_facing``: one entry per tool, each None or sound
-    (what solvers/tool_penetration.py and solvers/driven_tool_checks.py read)."""
+    (what solvers/tool_penetration.py and solvers/driven_tool_checks.py read);
+    ``tool_displacements`` (n_tools, 3) finite (what dynamic relaxation reads to tell a
+    moving tool, solvers/relaxation_cuts.py ``more_increments``)."""
     tools = int(block.n_tools)
+    moved = np.asarray(block.tool_displacements(state, history))
+    if moved.shape != (tools, 3) or not np.isfinite(moved).all():
+        raise AssertionError(
+            f"{name}.tool_displacements gave shape {moved.shape}: ({tools}, 3) finite mm "
+            "expected, one translation per tool"
+        )
     depths = block.tool_penetrations(state, history, 0.25)
     if len(depths) != tools:
         raise AssertionError(

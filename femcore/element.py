@@ -142,9 +142,11 @@ class ElementBlock(ReadOnlyState, ABC):
         equilibrium (docs/theory.md §6.5); False by default: the block's tangent is its only
         one (the fibrous shell declares True).
     has_fibre_strains : bool
-        Whether the block gives its levels' fibre strains and their gradient
-        (``fibre_strains``, ``fibre_strain_gradient``), which the static solver's level
-        projection keeps at their first order (solvers/newton_levels.py); False by default:
+        Whether the block gives its levels' fibre strains, their gradient and their laws'
+        range (``fibre_strains``, ``fibre_strain_gradient``, ``fibre_strain_range``), which
+        the static solver's level projection keeps at their first order
+        (solvers/newton_levels.py) and the quasi-static solvers' acceptance judges
+        (solvers/acceptance.py); False by default:
         the block has no nearly inextensible measures to keep (the fibrous shell declares
         True).
     """
@@ -264,6 +266,18 @@ class ElementBlock(ReadOnlyState, ABC):
         raise NotImplementedError(
             f"{type(self).__name__} declares has_fibre_strains but does not override "
             "fibre_strains: give both, or neither"
+        )
+
+    def fibre_strain_range(self) -> tuple[np.ndarray, np.ndarray]:
+        """(lower (p,), upper (p,)) float, per column of ``fibre_strains``: the strains past
+        which the block's force along that measure falls as it stretches (in tension, above
+        ``upper``) or as it shortens (in compression, below ``lower``): its law's own range,
+        where a quasi-static solver may accept a state (solvers/acceptance.py, docs/theory.md
+        §6.4d); -inf and inf where the force never falls (a shear angle, a stiffening law).
+        Asked only of a block that declares ``has_fibre_strains``, which must override it."""
+        raise NotImplementedError(
+            f"{type(self).__name__} declares has_fibre_strains but does not override "
+            "fibre_strain_range: give it with fibre_strains"
         )
 
     def fibre_strain_gradient(self, state: State) -> tuple:

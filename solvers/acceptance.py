@@ -19,10 +19,12 @@ accepted state must also be one where
   corners) or against its directors (at or past 90 deg from them at every corner: the
   measure of ``ElementBlock.inverted_cells`` of the Mindlin shell, which Static refuses
   too), and no cell is turned inside out by its block's own measure;
-- no fibre strain ln(lambda) of a block that has them (``fibre_strains``) exceeds
-  FIBRE_STRAIN in magnitude: lambda = e is the peak of the linear law's force, past which
-  the fibre softens as it stretches, and a hundred times the breaking strain of any
-  reinforcement fibre.
+- no fibre strain ln(lambda) of a block that has them (``fibre_strains``) lies past its
+  law's own range (``fibre_strain_range``): where the force per current width T / lambda
+  stops rising with the stretch, lambda = e for a linear law (a hundred times the breaking
+  strain of any reinforcement fibre), never for a law that stiffens fast enough
+  (materials/tension_peak.py); nothing in compression for a law whose force does not fall
+  there (a tension-only law carries none).
 """
 
 from __future__ import annotations
@@ -32,10 +34,8 @@ import numpy as np
 from femcore.model import CompiledModel
 from femcore.state import State
 
-__all__ = ["FIBRE_STRAIN", "MIN_AREA", "SPREAD", "invalid_state"]
+__all__ = ["MIN_AREA", "SPREAD", "invalid_state"]
 
-#: The largest fibre strain |ln(lambda)| of an accepted state (lambda = e, the force's peak).
-FIBRE_STRAIN = 1.0
 #: The least area of a triangle over its reference area in an accepted state.
 MIN_AREA = 1e-3
 #: The largest spread of the nodes over the model's size plus its prescribed motion.
@@ -90,19 +90,41 @@ def invalid_state(model: CompiledModel, state: State, load_factor: float) -> str
     if inverted.size:
         return f"cells {_names(inverted)} are turned inside out"
     for block in model.blocks:
-        if not block.has_fibre_strains:
-            continue
-        strains = block.fibre_strains(state)
-        levels = strains.shape[1] // 3  # eps1 of each level, eps2, then the shear angles
-        stretch = np.abs(strains[:, : 2 * levels]).max(axis=1)
-        over = np.flatnonzero(~(stretch <= FIBRE_STRAIN))
-        if over.size:
-            return (
-                f"fibre strains |ln(lambda)| up to {float(np.nanmax(stretch)):.3g} in cells "
-                f"{_names(block.cell_ids[over])}, past {FIBRE_STRAIN:g} (a stretch of e, where "
-                "the tension law's force peaks)"
-            )
+        if block.has_fibre_strains and (reason := _past_the_law(block, state)):
+            return reason
     return None
+
+
+def _past_the_law(block, state: State) -> str | None:
+    """The cells of ``block`` with a fibre strain past its law's range (the block's
+    ``fibre_strain_range``), as a clause naming the worst strain and its bound, or None."""
+    strains = block.fibre_strains(state)
+    lower, upper = block.fibre_strain_range()
+    # how far past its bound each strain lies (a NaN strain is the farthest)
+    beyond = np.nan_to_num(np.maximum(strains - upper, lower - strains), nan=np.inf)
+    over = np.flatnonzero((beyond > 0.0).any(axis=1))
+    if not over.size:
+        return None
+    cell, column = np.unravel_index(int(np.argmax(beyond)), beyond.shape)
+    strain = float(strains[cell, column])
+    bound = float(upper[column] if strain > 0.0 else lower[column])
+    digits = _telling_digits(strain, bound)
+    how = "stretches" if strain > 0.0 else "shortens"
+    return (
+        f"fibre strains ln(lambda) up to {strain:.{digits}g} (a stretch lambda = "
+        f"{np.exp(strain):.{digits}g}) in cells {_names(block.cell_ids[over])}, past "
+        f"{bound:.{digits}g} (lambda = {np.exp(bound):.{digits}g}), where their tension "
+        f"law's force per current width T / lambda peaks and then falls as the fibre {how}"
+    )
+
+
+def _telling_digits(value: float, bound: float) -> int:
+    """The fewest significant digits (at least 4) that print ``value`` and ``bound`` apart:
+    a strain just past its bound read "up to 1 ... past 1" at three."""
+    for digits in range(4, 18):
+        if f"{value:.{digits}g}" != f"{bound:.{digits}g}":
+            return digits
+    return 17
 
 
 def _used_nodes(model: CompiledModel) -> np.ndarray:

@@ -50,10 +50,12 @@ class SolverError(RuntimeError):
     failure (``result.converged`` is False), so the last good state can be inspected or
     written; ``load_factor`` is the last load factor reached, where the solver has one;
     ``steps`` the iterations of an increment it did not finish, where the solver counts them
-    in ``result.steps`` (dynamic relaxation)."""
+    in ``result.steps`` (dynamic relaxation); ``cuts`` the halvings of that increment
+    (dynamic relaxation's ``info["cuts"]``)."""
 
     load_factor: float | None = None
     steps: int = 0
+    cuts: int = 0
 
     def __init__(self, message: str, result: Result | None, steps: int = 0):
         super().__init__(message)

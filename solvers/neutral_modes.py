@@ -12,14 +12,18 @@ strip converged with every director tilted 51 deg, or not at all.
 
 An eigenvalue lambda of K_ff with unit eigenvector phi is taken as negative only below
 
-    -(ROUND_OFF sum_i phi_i^2 |K_ii| + noise),
+    -sum_i phi_i^2 (ROUND_OFF |K_ii| + noise_i),
 
 the rounding of its second variation phi . K phi: ROUND_OFF of the stiffness of the unknowns
 the mode moves (each unknown against its own diagonal, so translations and rotations alike,
-and a local mode of a large model against its own cells), and ``noise`` the error of a tangent
-made by finite differences, measured by its asymmetry (a tangent that should be symmetric,
-within solvers.linear.SYMMETRY_TOLERANCE; its row norm bounds the error's eigenvalues,
-Weyl). The count of such eigenvalues is the inertia of K_ff + ROUND_OFF W + noise I, W =
+and a local mode of a large model against its own cells), and ``noise_i`` the error of a
+tangent made by finite differences in the rows the mode moves, measured by its asymmetry (a
+tangent that should be symmetric, within solvers.linear.SYMMETRY_TOLERANCE): noise_i =
+sum_j |E_ij| with |E| = |K - K^T| / 2, so that |phi . E phi| <= sum_ij |E_ij| (phi_i^2 +
+phi_j^2) / 2 = sum_i phi_i^2 noise_i, and diag(noise) - E is diagonally dominant, positive
+semi-definite. A global noise (the largest row's) called a soft part's real negative mode
+neutral for the rounding of a stiff part it does not move (1e-9 of 1e6 N/mm against -1e-3
+N/mm). The count of such eigenvalues is the inertia of K_ff + diag(ROUND_OFF W + noise), W =
 diag(|K_ii|) (Sylvester: the congruence D^-1/2 (K + t D) D^-1/2 = D^-1/2 K D^-1/2 + t I),
 factorised only where K_ff's own LDL^T has a negative pivot.
 
@@ -53,9 +57,9 @@ ROUND_OFF = 1e3 * np.finfo(float).eps
 class Rounding:
     """The rounding of K_ff's second variations (module docstring): ``weights`` (n,) the
     diagonal |K_ii| (N/mm, N mm/rad^2 ...; each at least 1e-12 of the largest, so that an
-    unknown without stiffness of its own is shifted too), ``noise`` the row norm of the
-    antisymmetric part of a tangent meant symmetric (0 for one that is not: a frictional
-    tangent's asymmetry is physics, not error)."""
+    unknown without stiffness of its own is shifted too), ``noise`` (n,) each row's sum of
+    |K - K^T| / 2, the antisymmetric part of a tangent meant symmetric (N/mm ...; zeros for
+    one that is not: a frictional tangent's asymmetry is physics, not error)."""
 
     def __init__(self, k_ff: sp.spmatrix) -> None:
         k = sp.csr_matrix(k_ff)
@@ -66,15 +70,15 @@ class Rounding:
         largest = float(antisymmetric.data.max(initial=0.0)) if antisymmetric.nnz else 0.0
         meant_symmetric = largest <= SYMMETRY_TOLERANCE * scale
         rows = np.asarray(antisymmetric.sum(axis=1)).ravel()
-        self.noise = 0.5 * float(rows.max(initial=0.0)) if meant_symmetric else 0.0
+        self.noise = 0.5 * rows if meant_symmetric else np.zeros_like(rows)
 
     def floor(self, phi: np.ndarray) -> float:
         """The rounding of phi . K phi for a unit ``phi`` (n,): an eigenvalue above minus this
         is neutral."""
-        return ROUND_OFF * float(phi**2 @ self.weights) + self.noise
+        return float(phi**2 @ (ROUND_OFF * self.weights + self.noise))
 
     def shifted(self, k_ff: sp.spmatrix) -> sp.csc_matrix:
-        """K_ff + ROUND_OFF W + noise I, whose negative pivots are K_ff's negative modes."""
+        """K_ff + diag(ROUND_OFF W + noise), whose negative pivots are K_ff's negative modes."""
         shift = ROUND_OFF * self.weights + self.noise
         return (k_ff + sp.diags(shift, format="csc")).tocsc()
 

@@ -279,7 +279,7 @@ class DynamicRelaxation:
         )
         iterations: list[int] = []
         residuals: list[float] = []
-        done = 0
+        done = cuts = 0  # cuts: halvings of increments (relaxation_cuts), in the checkpoint
         earlier = 0.0  # s, the wall time of the increments before a resume
         settings = {
             "solver": "DynamicRelaxation",
@@ -297,6 +297,7 @@ class DynamicRelaxation:
             state, frames, done = payload["state"], payload["frames"], payload["increment"]
             iterations, residuals = payload["iterations"], payload["residuals"]
             masses.estimates, masses.recoveries = payload["estimates"], payload["recoveries"]
+            cuts = payload.get("cuts", 0)  # (absent from older checkpoints)
             # the wall time counts the increments before the stop too
             earlier = payload.get("wall_time", 0.0)  # (absent from older checkpoints)
             started -= earlier
@@ -304,7 +305,7 @@ class DynamicRelaxation:
             try:
                 result = self._increments(
                     compiled, state, frames, first, done, iterations, residuals, masses,
-                    progress, started, saved_at, signature, rounding,
+                    progress, started, saved_at, signature, rounding, cuts,
                 )  # fmt: skip
             except SolverError as error:
                 if error.result is not None:
@@ -328,10 +329,11 @@ class DynamicRelaxation:
         saved_at,
         signature,
         rounding: float,
+        cuts: int,
     ) -> Result:
         """Relax the increments after the ``done`` ones of ``solve``, saving each; the force
-        reference never below ``rounding`` (N, solvers.force_floor)."""
-        cuts = 0  # halvings of increments whose relaxed state was not valid (relaxation_cuts)
+        reference never below ``rounding`` (N, solvers.force_floor); ``cuts`` the halvings of
+        the ``done`` ones (relaxation_cuts)."""
         ramps = bool(more_increments(compiled))  # (halving a step load changes nothing)
         for increment in range(done + 1, self.increments + 1):
             load_factor = first + (1.0 - first) * increment / self.increments
@@ -356,8 +358,9 @@ class DynamicRelaxation:
                     error.checkpoint = saved_at if increment > 1 else None  # saved after each
                     error.args = (_interrupted(error, increment, self.increments, saved_at),)
                 error.result = self._result(
-                    compiled, frames, iterations, residuals, masses, started, False
-                )
+                    compiled, frames, iterations, residuals, masses, started, False,
+                    cuts + error.cuts,
+                )  # fmt: skip
                 # the unfinished increment's iterations count too: a stop at iteration 3910 of
                 # the first increment read "after 0 steps", one by max_iterations left them out
                 error.result.steps += error.steps
@@ -377,6 +380,7 @@ class DynamicRelaxation:
                         "residuals": residuals,
                         "estimates": masses.estimates,
                         "recoveries": masses.recoveries,
+                        "cuts": cuts,
                         "wall_time": time.perf_counter() - started,
                     },
                 )
@@ -384,11 +388,9 @@ class DynamicRelaxation:
                 f"increment {increment}/{self.increments} converged in {count} iterations",
                 fraction=increment / self.increments,
             )
-        result = self._result(compiled, frames, iterations, residuals, masses, started, True)
-        result.info["cuts"] = cuts
-        return result
+        return self._result(compiled, frames, iterations, residuals, masses, started, True, cuts)
 
-    def _result(self, compiled, frames, iterations, residuals, masses, started, converged):
+    def _result(self, compiled, frames, iterations, residuals, masses, started, converged, cuts):
         result = empty_result(compiled, frames)
         result.steps = int(sum(iterations))
         result.wall_time = time.perf_counter() - started
@@ -401,6 +403,7 @@ class DynamicRelaxation:
             "residual_ratio_per_increment": list(residuals),
             "mass_estimates": masses.estimates,
             "recoveries": masses.recoveries,
+            "cuts": cuts,
             "tol": self.tol,
         }
         record_tool_penetration(compiled, result, "DynamicRelaxation", converged)

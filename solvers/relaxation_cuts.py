@@ -25,7 +25,7 @@ import numpy as np
 
 from femcore.model import CompiledModel
 from femcore.state import State
-from solvers.common import DivergenceError
+from solvers.common import DivergenceError, SolverError
 
 __all__ = ["CUTS", "InvalidState", "more_increments", "relax_in_halves"]
 
@@ -79,7 +79,10 @@ def relax_in_halves(
     ------
     DivergenceError
         After CUTS halvings of a part that still fails: the cause, the load factor reached;
-        ``steps`` the iterations spent.
+        ``steps`` the iterations spent, ``cuts`` the halvings made.
+    SolverError
+        Any other stop of ``relax`` (ConvergenceError, Interrupted ...), its ``steps`` with
+        the earlier parts' iterations added and ``cuts`` the halvings made.
     """
     spent = cuts = 0
     reached, aims = start, [target]
@@ -87,6 +90,12 @@ def relax_in_halves(
         aim = aims[-1]
         try:
             out = relax(replace(state, load_factor=aim, time=aim), aim)
+        except SolverError as error:
+            # a later part that stops (max_iterations, a stall, an interrupt): the earlier
+            # parts' iterations and the halvings count in the run's steps and cuts too
+            error.steps += spent
+            error.cuts = cuts
+            raise
         except (InvalidState, ZeroDivisionError) as error:
             spent += getattr(error, "iterations", 0)
             cause = (
@@ -100,14 +109,16 @@ def relax_in_halves(
                     else " (nothing in the model ramps with the load factor: its loads are "
                     "'step' loads, so halving the increment changes nothing)"
                 )  # fmt: skip
-                raise DivergenceError(
+                stop = DivergenceError(
                     f"dynamic relaxation failed in increment {increment} at load factor "
                     f"{aim:.4g} ({cause}){parts}: a load or motion the model cannot follow "
                     "(its equilibrium left the laws' range), or one that needs a path: try "
                     f"Static{', or more increments' if ramps else ''}",
                     None,
                     steps=spent,
-                ) from (error if isinstance(error, ZeroDivisionError) else None)
+                )
+                stop.cuts = cuts
+                raise stop from (error if isinstance(error, ZeroDivisionError) else None)
             cuts += 1
             aims.append(0.5 * (reached + aim))
             continue
@@ -120,16 +131,33 @@ def relax_in_halves(
 
 def more_increments(model: CompiledModel) -> str:
     """ "use more increments, " where more increments would make each one's change smaller:
-    some load or prescribed displacement of ``model`` ramps with the load factor; "" where
-    none does (gravity and other "step" loads go in full from the first increment of a
-    relaxation, docs/theory.md §6.4: a strip over a cylinder under its weight alone was told
-    to use more increments, and increment 1 carried the whole weight at any count)."""
-    half = model.external_load(0.5, quasi_static=True)
-    full = model.external_load(1.0, quasi_static=True)
-    ramps = any(not np.array_equal(a, b) for a, b in zip(half, full))
-    if model.has_prescribed:
-        ramps = ramps or not np.array_equal(
-            model.prescribed_displacement(0.5, quasi_static=True),
-            model.prescribed_displacement(1.0, quasi_static=True),
-        )
+    some load, prescribed displacement or tool motion of ``model`` ramps with the load factor
+    (a driven tool's force is a load on its node); "" where none does (gravity and other
+    "step" loads go in full from the first increment of a relaxation, docs/theory.md §6.4: a
+    strip over a cylinder under its weight alone was told to use more increments, and
+    increment 1 carried the whole weight at any count)."""
+    full = _driven(model, 1.0)
+    ramps = any(
+        not all(np.array_equal(a, b) for a, b in zip(_driven(model, probe), full))
+        for probe in _PROBES
+    )
     return "use more increments, " if ramps else ""
+
+
+#: The load factors compared with 1 (an amplitude may hold its value over part of the run:
+#: a pull reached at 0.5 and held reads the same at 0.5 and 1).
+_PROBES = (0.25, 0.5, 0.75)
+
+
+def _driven(model: CompiledModel, load_factor: float) -> list[np.ndarray]:
+    """What drives ``model`` at ``load_factor``: its loads (a driven tool's force among them,
+    a load on its node), its prescribed displacements and its tools' motions
+    (InteractionBlock.tool_displacements, the body where it starts)."""
+    driven = list(model.external_load(load_factor, quasi_static=True))
+    if model.has_prescribed:
+        driven.append(model.prescribed_displacement(load_factor, quasi_static=True))
+    if model.interactions:
+        # a pressed strip's plane lifted 5 mm read "nothing in the model ramps"
+        at = replace(model.initial_state(), load_factor=load_factor, time=load_factor)
+        driven.append(model.tool_displacements(at))
+    return driven

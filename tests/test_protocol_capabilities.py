@@ -174,6 +174,7 @@ def test_a_node_cycling_across_a_users_meshed_crease_is_named():
             "finite depth >= 0",
         ),
         ({"tool_facing": lambda self, *a: [None, None, None]}, "tool_facing gave 3 entries"),
+        ({"tool_displacements": lambda self, *a: np.zeros(3)}, "tool_displacements gave shape"),
         (
             {"tool_facing": lambda self, *a: [np.ones((2, 3))] * self.n_tools},
             "not \\(s, 3\\) unit vectors",
@@ -205,8 +206,27 @@ def _cable_block():
                 "has_fibre_strains": True,
                 "fibre_strains": lambda self, s: np.full((len(self.connectivity), 1), 1e-6),
                 "fibre_strain_gradient": lambda self, s: (),
+                "fibre_strain_range": lambda self: (np.array([-1.0]), np.array([1.0])),
             },
             "reference is unstrained",
+        ),
+        (
+            {
+                "has_fibre_strains": True,
+                "fibre_strains": lambda self, s: np.zeros((len(self.connectivity), 1)),
+                "fibre_strain_gradient": lambda self, s: (),
+                "fibre_strain_range": lambda self: (np.array([-1.0, -1.0]), np.array([1.0, 1.0])),
+            },
+            "one bound per column of fibre_strains",
+        ),
+        (
+            {
+                "has_fibre_strains": True,
+                "fibre_strains": lambda self, s: np.zeros((len(self.connectivity), 1)),
+                "fibre_strain_gradient": lambda self, s: (),
+                "fibre_strain_range": lambda self: (np.array([-1.0]), np.array([0.0])),
+            },
+            "lower < 0 < upper",
         ),
         ({"fibre_strains": lambda self, s: None}, "never asks for them"),
         ({"fibre_edges": lambda self: np.array([[0, 0]])}, "two distinct nodes"),

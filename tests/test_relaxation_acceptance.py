@@ -11,9 +11,9 @@ import pytest
 
 from elements import FibrousShell
 from femcore import Mesh, Model
-from materials import Fabric, ShearLaw
+from materials import Fabric, ShearLaw, TensionLaw
 from solvers import DivergenceError, DynamicRelaxation
-from solvers.acceptance import FIBRE_STRAIN, invalid_state
+from solvers.acceptance import invalid_state
 from solvers.relaxation_cuts import CUTS, InvalidState, relax_in_halves
 
 SIDE = 100.0  # mm, the picture frame's side
@@ -63,12 +63,51 @@ def test_a_sheet_flown_far_past_its_size_is_not_valid():
 
 def test_a_fibre_stretched_past_the_laws_peak_is_not_valid():
     # A uniform stretch s of the sheet: fibre strain ln(s) in every cell; the linear law's
-    # force b K ln(s) / s peaks at s = e (ln s = FIBRE_STRAIN = 1).
+    # force b K ln(s) / s peaks at s = e (ln s = 1, materials/tension_peak.py).
     mesh, model = sheet()
     compiled, state = at(model, 1.05 * mesh.points)
     assert invalid_state(compiled, state, 1.0) is None
-    compiled, state = at(model, np.exp(1.1 * FIBRE_STRAIN) * mesh.points)
+    compiled, state = at(model, np.exp(1.1) * mesh.points)
     assert "fibre strains" in invalid_state(compiled, state, 1.0)
+
+
+def strip(law, cells=4):
+    """A 40 x 10 mm fibrous strip of tension ``law`` (t = 0.3 mm)."""
+    mesh = Mesh.rectangle(40.0, 10.0, cells, 1)
+    model = Model(mesh)
+    fabric = Fabric(thickness=0.3, areal_density=1e-9, tension=law, shear=0.1, bending=0.01)
+    model.add(FibrousShell(fabric))
+    return mesh, model
+
+
+def test_a_law_whose_force_only_rises_is_valid_past_a_stretch_of_e():
+    # T = C (exp(eps) - 1): T / lambda = C (1 - 1 / lambda) only rises, so a strip pulled to
+    # lambda = 3 along its fibres (ln 3 = 1.0986) is a valid state. Before: refused as past
+    # |ln(lambda)| = 1, "where the tension law's force peaks", whatever the law.
+    eps = np.linspace(-0.5, 2.0, 26)
+    mesh, model = strip(TensionLaw.table(eps, 10.0 * (np.exp(eps) - 1.0)))
+    compiled, state = at(model, mesh.points * np.array([3.0, 1.0, 1.0]))
+    assert invalid_state(compiled, state, 1.0) is None
+
+
+def test_a_compressed_fibre_is_valid_where_its_law_does_not_soften():
+    # lambda = 0.3 along the warp (ln 0.3 = -1.2): a tension-only law carries nothing there,
+    # a linear law's compressive force C |ln lambda| / lambda only grows as it shortens.
+    # Before: refused as |ln(lambda)| > 1.
+    for law in (TensionLaw.linear(10.0, tension_only=True), TensionLaw.linear(10.0)):
+        mesh, model = strip(law)
+        compiled, state = at(model, mesh.points * np.array([0.3, 1.0, 1.0]))
+        assert invalid_state(compiled, state, 1.0) is None
+
+
+def test_a_strain_just_past_the_peak_is_printed_apart_from_it():
+    # ln(lambda) = 1.0004 against the linear law's peak at 1: printed "up to 1 ... past 1"
+    # before; now with the digits that tell them apart.
+    mesh, model = strip(TensionLaw.linear(10.0))
+    compiled, state = at(model, mesh.points * np.array([np.exp(1.0004), 1.0, 1.0]))
+    reason = invalid_state(compiled, state, 1.0)
+    assert "up to 1.0004 (a stretch lambda = 2.7194)" in reason
+    assert "past 1 (lambda = 2.7183)" in reason and "T / lambda peaks" in reason
 
 
 def test_a_corner_pulled_over_its_neighbour_is_inside_out():

@@ -139,3 +139,24 @@ def test_a_pivot_within_round_off_of_zero_is_neutral_and_one_beyond_it_negative(
     found, modes = np.linalg.eigh(k.toarray())
     kept, _ = unstable_modes(k, (found[:2], modes[:, :2]))
     assert kept == pytest.approx([-1e-7], rel=1e-6)
+
+
+def test_the_noise_of_a_stiff_part_does_not_hide_a_soft_parts_instability():
+    # A stiff tridiagonal part (4e6, -1e6 N/mm) with finite-difference noise of 1e-9 of its
+    # entries (within SYMMETRY_TOLERANCE = 1e-7, so taken as a tangent meant symmetric), and
+    # an uncoupled soft part diag(1, -1e-3) N/mm: its eigenvalue -1e-3 moves only the last
+    # unknown, whose row has no noise, so its rounding is ROUND_OFF x 1e-3 = 2e-16 N/mm:
+    # negative, by construction. Before: the stiff part's largest noisy row (2.4e-3 N/mm),
+    # taken as the noise of every mode, called it neutral.
+    n = 30
+    stiff = 1e6 * (4.0 * np.eye(n) - np.eye(n, k=1) - np.eye(n, k=-1))
+    noise = np.random.default_rng(0).standard_normal(stiff.shape) * (stiff != 0.0)
+    k = sp.csc_matrix(sp.block_diag([stiff + 1e-3 * noise, np.diag([1.0, -1e-3])]))
+    factor = LinearSolver().factorise(k)
+    assert factor.negative == 1
+    judged = judge_pivots(LinearSolver(), k, factor)
+    assert (judged.negative, judged.neutral) == (1, 0)
+    mode = np.zeros(n + 2)
+    mode[-1] = 1.0
+    kept, _ = unstable_modes(k, (np.array([-1e-3]), mode[:, None]))
+    assert kept == pytest.approx([-1e-3])

@@ -41,6 +41,7 @@ from femcore.mesh import Mesh
 from femcore.state import State
 from femcore.topology import build_topology
 from femcore.workspace import Workspace
+from materials.tension_peak import softening_strains
 
 if TYPE_CHECKING:
     from elements.fibrous.element import FibrousShell
@@ -340,6 +341,18 @@ class FibrousShellBlock(ElementBlock):
                 self, geometry.geometry(self, state.positions, state.directors)
             )
         return np.concatenate([strain["eps1"], strain["eps2"], strain["gamma"]], axis=1)
+
+    def fibre_strain_range(self) -> tuple[np.ndarray, np.ndarray]:
+        """(lower (3 L,), upper (3 L,)) the strains of ``fibre_strains``' columns past which
+        the warp's and the weft's tension per current width T / lambda falls (their laws'
+        ``materials.tension_peak.softening_strains``: eps = 1 for a linear law, never for a
+        stiffening one); the shear angles unbounded (docs/theory.md §6.4d)."""
+        levels = len(self.weights)
+        lower, upper = np.full(3 * levels, -np.inf), np.full(3 * levels, np.inf)
+        for family, law in enumerate((self.fabric.tension, self.fabric.tension_weft)):
+            columns = slice(family * levels, (family + 1) * levels)
+            lower[columns], upper[columns] = softening_strains(law)
+        return lower, upper
 
     def fibre_strain_gradient(self, state: State) -> tuple:
         """The derivatives of ``fibre_strains`` at each cell's corners (direct, turns, and
