@@ -40,7 +40,7 @@ from numpy.polynomial import Polynomial
 
 from elements import MindlinShell, RigidPlane, RigidSurface
 from femcore import Mesh, Model
-from materials import ElasticShell
+from materials import ElasticShell, presets
 from solvers import DynamicRelaxation, Static
 
 OVERHANG, ON_TABLE, WIDTH, CELL = 40.0, 80.0, 10.0, 2.5
@@ -99,6 +99,28 @@ def strip(
     model.contact(tool, nodes=nodes, friction=friction, penalty=penalty, stick_stiffness=stick)
     model.gravity((0.0, 0.0, -GRAVITY))
     return model
+
+
+def g986_strip() -> tuple[Model, np.ndarray]:
+    """A FibrousShell strip of one G986 ply (materials.presets.g986_ply) over the table's
+    geometry, held in its plane at its far end, under gravity, without its contact: (model,
+    the nodes' x)."""
+    from elements import FibrousShell
+
+    fabric = presets.g986_ply()
+    mesh = Mesh.rectangle(
+        OVERHANG + ON_TABLE,
+        WIDTH,
+        nx=round((OVERHANG + ON_TABLE) / CELL),
+        ny=1,
+        origin=(-ON_TABLE, 0.0, 0.5 * fabric.thickness),
+    )
+    model = Model(mesh)
+    model.add(FibrousShell(fabric))
+    x = mesh.points[:, 0]
+    model.fix(np.flatnonzero(x < -ON_TABLE + 1e-9), ("ux", "uy"))
+    model.gravity((0.0, 0.0, -GRAVITY))
+    return model, x
 
 
 def sag(result) -> tuple[float, np.ndarray, np.ndarray]:
@@ -219,27 +241,12 @@ def test_static_lays_a_fibrous_strip_on_a_meshed_table_at_the_automatic_penalty(
     in at most 6 Newton iterations an increment (measured 4, then 3 in each). Tolerance 1e-6
     for the fibre tension's round-off (the slow test's docstring): at 1e-8 the residual ratio
     stays at 3e-7 from the fifth increment on."""
-    from elements import FibrousShell
-    from materials import presets
-
-    fabric = presets.g986_ply()
-    mesh = Mesh.rectangle(
-        OVERHANG + ON_TABLE,
-        WIDTH,
-        nx=round((OVERHANG + ON_TABLE) / CELL),
-        ny=1,
-        origin=(-ON_TABLE, 0.0, 0.5 * fabric.thickness),
-    )
-    model = Model(mesh)
-    model.add(FibrousShell(fabric))
-    x = mesh.points[:, 0]
-    model.fix(np.flatnonzero(x < -ON_TABLE + 1e-9), ("ux", "uy"))
+    model, x = g986_strip()
     model.contact(table())
-    model.gravity((0.0, 0.0, -GRAVITY))
     result = Static(tol=1e-6, progress=False).solve(model)
     assert result.converged
     assert max(result.info["iterations_per_increment"]) <= 6
-    weight = fabric.areal_density * GRAVITY * WIDTH
+    weight = presets.g986_ply().areal_density * GRAVITY * WIDTH
     tip, _, _ = sag(result)
     assert tip == pytest.approx(tip_deflection(weight, 7.5 * WIDTH, OVERHANG), rel=2e-2)
 
@@ -279,26 +286,11 @@ def test_static_lays_a_fibrous_strip_on_a_table_with_the_closed_form_overhang():
     iterations: 3 in each of 2 increments (the contact sets predicted on each step's linear
     model; 29 and 10 before, where three frozen sets alternated at the lift-off, then the
     unilateral law went on: about 30 s then, 2 s now)."""
-    from elements import FibrousShell
-    from materials import presets
-
-    fabric = presets.g986_ply()
-    mesh = Mesh.rectangle(
-        OVERHANG + ON_TABLE,
-        WIDTH,
-        nx=round((OVERHANG + ON_TABLE) / CELL),
-        ny=1,
-        origin=(-ON_TABLE, 0.0, 0.5 * fabric.thickness),
-    )
-    model = Model(mesh)
-    model.add(FibrousShell(fabric))
-    x = mesh.points[:, 0]
-    model.fix(np.flatnonzero(x < -ON_TABLE + 1e-9), ("ux", "uy"))
+    model, x = g986_strip()
     model.contact(RigidPlane((0, 0, 0), (0, 0, 1)), nodes=np.flatnonzero(x <= 1e-9), penalty=10.0)
-    model.gravity((0.0, 0.0, -GRAVITY))
     result = Static(increments=2, tol=1e-6, progress=False).solve(model)
     assert result.converged
-    weight = fabric.areal_density * GRAVITY * WIDTH
+    weight = presets.g986_ply().areal_density * GRAVITY * WIDTH
     tip, _, _ = sag(result)
     assert tip == pytest.approx(tip_deflection(weight, 7.5 * WIDTH, OVERHANG), rel=2e-2)
 
