@@ -119,7 +119,7 @@ def check_element_capabilities(
             )
         if not np.isfinite(np.asarray(block.fibre_strains(deformed))).all():
             raise AssertionError(f"{name}.fibre_strains of the deformed state are not finite")
-        _check_strain_range(name, block.fibre_strain_range(), strains.shape[1])
+        _check_strain_range(name, block.fibre_strain_range(), strains.shape)
         gradient = block.fibre_strain_gradient(deformed)
         if not isinstance(gradient, tuple):
             raise AssertionError(
@@ -141,19 +141,21 @@ def check_element_capabilities(
         )
 
 
-def _check_strain_range(name: str, bounds: Any, columns: int) -> None:
-    """``fibre_strain_range()``: two (p,) float arrays, lower < 0 < upper (the unstrained
-    reference lies inside the laws' range), p the columns of ``fibre_strains``."""
+def _check_strain_range(name: str, bounds: Any, shape: tuple[int, ...]) -> None:
+    """``fibre_strain_range()``: two (p,) or (m, p) float arrays, lower < 0 < upper (the
+    unstrained reference lies inside the laws' range), (m, p) the shape of ``fibre_strains``."""
+    columns = shape[1]
     if not (isinstance(bounds, tuple) and len(bounds) == 2):
         raise AssertionError(
             f"{name}.fibre_strain_range() gave {type(bounds).__name__}: a (lower, upper) pair "
             "expected"
         )
     lower, upper = (np.asarray(bound) for bound in bounds)
-    if lower.shape != (columns,) or upper.shape != (columns,):
+    if lower.shape not in ((columns,), shape) or upper.shape not in ((columns,), shape):
         raise AssertionError(
             f"{name}.fibre_strain_range() gave shapes {lower.shape} and {upper.shape}: "
-            f"({columns},) each expected, one bound per column of fibre_strains"
+            f"({columns},) or {shape} each expected, one bound per column of fibre_strains "
+            "(or per cell and column)"
         )
     if (
         lower.dtype.kind != "f"

@@ -269,7 +269,8 @@ class ElementBlock(ReadOnlyState, ABC):
         )
 
     def fibre_strain_range(self) -> tuple[np.ndarray, np.ndarray]:
-        """(lower (p,), upper (p,)) float, per column of ``fibre_strains``: the strains past
+        """(lower, upper) float, each (p,) per column of ``fibre_strains`` or (m, p) per cell and
+        column (a cell whose columns are different fibres' measures): the strains past
         which the block's force along that measure falls as it stretches (in tension, above
         ``upper``) or as it shortens (in compression, below ``lower``): its law's own range,
         where a quasi-static solver may accept a state (solvers/acceptance.py, docs/theory.md

@@ -99,7 +99,8 @@ def _past_the_law(block, state: State) -> str | None:
     """The cells of ``block`` with a fibre strain past its law's range (the block's
     ``fibre_strain_range``), as a clause naming the worst strain and its bound, or None."""
     strains = block.fibre_strains(state)
-    lower, upper = block.fibre_strain_range()
+    # (p,) bounds per column, or (m, p) per cell and column
+    lower, upper = (np.broadcast_to(bound, strains.shape) for bound in block.fibre_strain_range())
     # how far past its bound each strain lies (a NaN strain is the farthest)
     beyond = np.nan_to_num(np.maximum(strains - upper, lower - strains), nan=np.inf)
     over = np.flatnonzero((beyond > 0.0).any(axis=1))
@@ -107,7 +108,7 @@ def _past_the_law(block, state: State) -> str | None:
         return None
     cell, column = np.unravel_index(int(np.argmax(beyond)), beyond.shape)
     strain = float(strains[cell, column])
-    bound = float(upper[column] if strain > 0.0 else lower[column])
+    bound = float(upper[cell, column] if strain > 0.0 else lower[cell, column])
     digits = _telling_digits(strain, bound)
     how = "stretches" if strain > 0.0 else "shortens"
     return (

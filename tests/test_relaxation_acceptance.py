@@ -100,6 +100,30 @@ def test_a_compressed_fibre_is_valid_where_its_law_does_not_soften():
         assert invalid_state(compiled, state, 1.0) is None
 
 
+@pytest.mark.parametrize("diagonals", ["one-way", "alternating"])
+def test_each_fibre_is_judged_by_its_own_familys_law(diagonals):
+    # An unbalanced fabric: the warp linear (its force per unit reference width peaks at
+    # ln(lambda) = 1), the weft a table that flattens (peaks at 0.30, materials.tension_peak).
+    # fibre_strains' columns are along each cell's edges, the warp or the weft by the cell's
+    # xi_is_warp. Before, the first columns took the warp's bound in every cell: with the warp
+    # along y (edge 0 -> 1 weft in every cell of the one-way mesh) the weft stretched to 0.5,
+    # past its peak, was accepted, and on the alternating mesh a warp pull to 0.5 was refused.
+    warp = TensionLaw.linear(100.0)
+    weft = TensionLaw.table([0.0, 0.02, 0.2], [0.0, 2.0, 2.5])
+    fabric = Fabric(thickness=0.3, areal_density=2.85e-10, tension=warp, tension_weft=weft,
+                    shear=0.2, bending=0.1)  # fmt: skip
+    stretch = np.array([np.exp(0.5), 1.0, 1.0])  # along x
+    for warp_along, refused in (((1.0, 0.0, 0.0), False), ((0.0, 1.0, 0.0), True)):
+        mesh = Mesh.rectangle(20.0, 10.0, nx=2, ny=2, diagonals=diagonals)
+        model = Model(mesh)
+        model.add(FibrousShell(fabric, warp=warp_along))
+        compiled, state = at(model, mesh.points * stretch)
+        reason = invalid_state(compiled, state, 1.0)
+        assert (reason is not None) == refused, (warp_along, reason)
+        if refused:
+            assert "past 0.3" in reason
+
+
 def test_a_strain_just_past_the_peak_is_printed_apart_from_it():
     # ln(lambda) = 1.0004 against the linear law's peak at 1: printed "up to 1 ... past 1"
     # before; now with the digits that tell them apart.

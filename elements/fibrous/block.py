@@ -331,9 +331,10 @@ class FibrousShellBlock(ElementBlock):
     has_fibre_strains = True
 
     def fibre_strains(self, state: State) -> np.ndarray:
-        """(m, 3 L) each level's warp and weft strains and shear angle (rad), per cell: the
-        measures the static solver's level projection keeps at their first order
-        (solvers.newton_levels)."""
+        """(m, 3 L) each level's fibre strains ln(lambda) along the cell's edges 0 -> 1 and 0 ->
+        2 (the warp and the weft where ``xi_is_warp``, the weft and the warp elsewhere) and its
+        shear angle (rad), per cell: the measures the static solver's level projection keeps
+        at their first order (solvers.newton_levels)."""
         if self.compiled:
             strain = kernels.strains(self, state.positions, state.directors)
         else:
@@ -343,16 +344,26 @@ class FibrousShellBlock(ElementBlock):
         return np.concatenate([strain["eps1"], strain["eps2"], strain["gamma"]], axis=1)
 
     def fibre_strain_range(self) -> tuple[np.ndarray, np.ndarray]:
-        """(lower (3 L,), upper (3 L,)) the strains of ``fibre_strains``' columns past which
-        the warp's and the weft's tension per current width T / lambda falls (their laws'
-        ``materials.tension_peak.softening_strains``: eps = 1 for a linear law, never for a
-        stiffening one); the shear angles unbounded (docs/theory.md §6.4d)."""
-        levels = len(self.weights)
-        lower, upper = np.full(3 * levels, -np.inf), np.full(3 * levels, np.inf)
-        for family, law in enumerate((self.fabric.tension, self.fabric.tension_weft)):
-            columns = slice(family * levels, (family + 1) * levels)
-            lower[columns], upper[columns] = softening_strains(law)
-        return lower, upper
+        """(lower (m, 3 L), upper (m, 3 L)) per cell, the strains of ``fibre_strains``'
+        columns past which the fibre's tension per unit reference width T / lambda falls (its
+        law's ``materials.tension_peak.softening_strains``: eps = 1 for a linear law, never
+        for a stiffening one); the shear angles unbounded (docs/theory.md §6.4d). Per cell:
+        the first L columns are along the cell's edge 0 -> 1, the warp where ``xi_is_warp``
+        and the weft elsewhere, so each takes its own family's law."""
+        levels, cells = len(self.weights), len(self.connectivity)
+        warp = softening_strains(self.fabric.tension)
+        weft = softening_strains(self.fabric.tension_weft)
+        bounds = []
+        for side in (0, 1):  # lower, upper
+            along_warp = np.full((cells, 1), warp[side])
+            along_weft = np.full((cells, 1), weft[side])
+            # (the swap by xi_is_warp is its own inverse: warp/weft -> edge 0-1/edge 0-2)
+            along_xi, along_eta = by_family(self.xi_is_warp, along_warp, along_weft)
+            bound = np.full((cells, 3 * levels), np.inf if side else -np.inf)
+            bound[:, :levels] = along_xi
+            bound[:, levels : 2 * levels] = along_eta
+            bounds.append(bound)
+        return bounds[0], bounds[1]
 
     def fibre_strain_gradient(self, state: State) -> tuple:
         """The derivatives of ``fibre_strains`` at each cell's corners (direct, turns, and
