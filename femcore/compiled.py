@@ -37,6 +37,7 @@ from femcore.driven_tools import DrivenTools
 from femcore.element import ElementBlock
 from femcore.frame_branches import (
     check_frame_branches,
+    facet_spread,
     onto_symmetry_planes,
     warn_named_planes,
 )
@@ -137,12 +138,20 @@ class CompiledModel(CompiledTangent):
                     "the directors declares defines_directors = True"
                 )
             self.reference_directors[self.has_rotation] = normals[self.has_rotation]
+            # how far a one-sided director may lie off a symmetry plane (its facets' spread)
+            spread = (
+                facet_spread(mesh.points, np.concatenate(shell_triangles), normals)
+                if shell_triangles
+                else None
+            )
             # a symmetry plane's directors in it, as the mirrored model's (docs/theory.md §1.2)
-            onto_symmetry_planes(model.fixes, self.reference_directors, self.has_rotation)
+            onto_symmetry_planes(model.fixes, self.reference_directors, self.has_rotation, spread)
             # a fixed alpha or beta must name one rotation along its set (docs/theory.md §1.2)
             check_frame_branches(model.fixes, self.reference_directors, self.has_rotation)
             # a symmetry plane named by its DOFs where they hold another turn (§1.2)
-            warn_named_planes(model.fixes, mesh.points, self.reference_directors, self.has_rotation)
+            warn_named_planes(
+                model.fixes, mesh.points, self.reference_directors, self.has_rotation, spread
+            )
 
         # a fix's ``tilt`` is alpha or beta at each node by its frame (docs/theory.md §1.2)
         fixed = fixed_mask(model.fixes, active, self.reference_directors)

@@ -40,6 +40,7 @@ __all__ = [
     "NAMED_PLANE_DEG",
     "changed_meaning",
     "check_frame_branches",
+    "facet_spread",
     "onto_symmetry_planes",
     "tilt_columns",
     "warn_named_planes",
@@ -145,7 +146,58 @@ def check_frame_branches(fixes: Sequence, directors: np.ndarray, has_rotation: n
         )
 
 
-def onto_symmetry_planes(fixes: Sequence, directors: np.ndarray, has_rotation: np.ndarray) -> None:
+def facet_spread(points: np.ndarray, triangles: np.ndarray, directors: np.ndarray) -> np.ndarray:
+    """Per node the local fold of the surface (deg): the largest angle between a director and
+    the normal of one of its facets, over the nodes of the node's facets (one ring further,
+    so that a corner node of a single facet takes its neighbours' folds); how far a one-sided
+    average of facet normals can lie from a plane across which the mirrored facets would
+    complete it (``onto_symmetry_planes``; 0 at a node not on a cell).
+
+    Parameters
+    ----------
+    points : numpy.ndarray, shape (n, 3), mm
+    triangles : numpy.ndarray of int, shape (m, 3)
+    directors : numpy.ndarray, shape (n, 3), the nodal unit normals
+    """
+    x = points[triangles]
+    normals = np.cross(x[:, 1] - x[:, 0], x[:, 2] - x[:, 0])
+    normals /= np.linalg.norm(normals, axis=1)[:, None]
+    cosine = np.einsum("mkj,mj->mk", directors[triangles], normals)
+    angles = np.degrees(np.arccos(np.clip(cosine, -1.0, 1.0)))
+    own = np.zeros(len(points))
+    np.maximum.at(own, triangles.ravel(), angles.ravel())
+    ring = np.repeat(own[triangles].max(axis=1), 3)  # each facet's largest, to its corners
+    spread = np.zeros(len(points))
+    np.maximum.at(spread, triangles.ravel(), ring)
+    return spread
+
+
+#: A symmetry plane's one-sided director lies off the plane by about its own facets' spread;
+#: farther than SPREAD_FACTOR x that spread + SPREAD_MARGIN_DEG, the plane is not one of the
+#: geometry's symmetry planes (an inclined edge), and laying the director into it would turn it.
+SPREAD_FACTOR = 2.0
+SPREAD_MARGIN_DEG = 0.1
+
+
+def _off_plane(v: np.ndarray, axis: int) -> np.ndarray:
+    """The angle (deg) of each director (k, 3) from the plane normal to ``axis``."""
+    return np.degrees(np.arcsin(np.clip(np.abs(v[:, axis]), 0.0, 1.0)))
+
+
+def _beyond_symmetry(off: np.ndarray, spread: np.ndarray | None) -> np.ndarray:
+    """Directors (their angle ``off`` from a plane, deg) farther from it than their facets'
+    ``spread`` allows on a symmetry plane (all False without a spread)."""
+    if spread is None:
+        return np.zeros(off.shape, dtype=bool)
+    return off > SPREAD_FACTOR * spread + SPREAD_MARGIN_DEG
+
+
+def onto_symmetry_planes(
+    fixes: Sequence,
+    directors: np.ndarray,
+    has_rotation: np.ndarray,
+    spread: np.ndarray | None = None,
+) -> None:
     """Lay the reference directors of the nodes a ``tilt`` fix holds into its symmetry plane,
     in place: the directors the whole (mirrored) model would give them (docs/theory.md §1.2).
 
@@ -166,13 +218,18 @@ def onto_symmetry_planes(fixes: Sequence, directors: np.ndarray, has_rotation: n
         The reference unit directors, changed in place at the tilt fixes' nodes.
     has_rotation : numpy.ndarray, shape (n,) bool
         The nodes that carry alpha and beta (others are left to ``tilt_columns`` to refuse).
+    spread : numpy.ndarray, shape (n,), optional
+        ``facet_spread`` of the nodes (deg): a director farther off its plane than
+        SPREAD_FACTOR x its spread + SPREAD_MARGIN_DEG is not a symmetry plane's (an edge of a
+        cylindrical panel at 20 deg to the plane, its facets 1 deg apart, would have been
+        turned 20 deg, silently).
 
     Raises
     ------
     EntryError
-        (a ValueError) for a director more than BRANCH_ANGLE_DEG from its plane: not a
-        symmetry plane's node (its facets do not lie across the plane), or a node on two
-        tilt planes whose director cannot lie in both.
+        (a ValueError) for a director more than BRANCH_ANGLE_DEG from its plane, or farther
+        than its facets' spread allows: not a symmetry plane's node (its facets do not lie
+        across the plane), or a node on two tilt planes whose director cannot lie in both.
     """
     for index, fix in enumerate(fixes):
         if fix.tilt is None:
@@ -181,10 +238,10 @@ def onto_symmetry_planes(fixes: Sequence, directors: np.ndarray, has_rotation: n
         if not nodes.size:
             continue
         v = directors[nodes]
-        off = np.degrees(np.arcsin(np.clip(np.abs(v[:, fix.tilt]), 0.0, 1.0)))
+        off = _off_plane(v, fix.tilt)
         far = off > BRANCH_ANGLE_DEG
+        axis = "xyz"[fix.tilt]
         if far.any():
-            axis = "xyz"[fix.tilt]
             bad = nodes[far]
             raise EntryError(
                 "fix",
@@ -197,13 +254,34 @@ def onto_symmetry_planes(fixes: Sequence, directors: np.ndarray, has_rotation: n
                 "angle. Is the plane's axis the right one? Elsewhere fix alpha and beta to "
                 "hold the director whole",
             )
+        astray = _beyond_symmetry(off, None if spread is None else spread[nodes])
+        if astray.any():
+            bad = nodes[astray]
+            first = int(np.flatnonzero(astray)[0])
+            assert spread is not None
+            raise EntryError(
+                "fix",
+                index,
+                f"tilt = {axis!r} declares a symmetry plane {axis} = const, but at nodes "
+                f"{bad[:10].tolist()}{' ...' if bad.size > 10 else ''} the director lies "
+                f"{off[first]:.2f} deg from that plane where the surface folds by at most "
+                f"{spread[bad[0]]:.2f} deg from one facet to the next around it: the surface "
+                "crosses the plane at an "
+                "angle, so the plane is not one of its symmetry planes (an inclined edge), and "
+                "laying the directors into it would turn them. Hold such an edge by naming "
+                "its DOFs (alpha and beta for the whole director)",
+            )
         v = v.copy()
         v[:, fix.tilt] = 0.0
         directors[nodes] = v / np.linalg.norm(v, axis=1)[:, None]
 
 
 def warn_named_planes(
-    fixes: Sequence, points: np.ndarray, directors: np.ndarray, has_rotation: np.ndarray
+    fixes: Sequence,
+    points: np.ndarray,
+    directors: np.ndarray,
+    has_rotation: np.ndarray,
+    spread: np.ndarray | None = None,
 ) -> None:
     """Warn (UserWarning) where a fix that reads as a symmetry plane by named DOFs (one
     translation, along a coordinate axis, and alpha or beta alone, on nodes of one plane
@@ -226,6 +304,9 @@ def warn_named_planes(
         The reference unit directors.
     has_rotation : numpy.ndarray, shape (n,) bool
         The nodes that carry alpha and beta.
+    spread : numpy.ndarray, shape (n,), optional
+        ``facet_spread`` (deg): directors farther off the plane than their facets allow on a
+        symmetry plane mark an edge support, which is not warned (``tilt`` would turn them).
     """
     size = float(np.ptp(points, axis=0).max(initial=0.0)) or 1.0
     least = np.cos(np.radians(NAMED_PLANE_DEG))
@@ -241,7 +322,10 @@ def warn_named_planes(
         if nodes.size < 2 or np.ptp(points[nodes, axis]) > 1e-6 * size:
             continue  # not one plane normal to the held translation
         v = directors[nodes]
-        if (np.abs(v[:, axis]) > np.sin(np.radians(BRANCH_ANGLE_DEG))).any():
+        off = _off_plane(v, axis)
+        if (off > BRANCH_ANGLE_DEG).any() or _beyond_symmetry(
+            off, None if spread is None else spread[nodes]
+        ).any():
             continue  # directors across the plane: an edge support, not a symmetry plane
         v1, v2 = nodal_frames(v)
         turns = v1 if column == 3 else v2  # alpha towards V1, beta towards -V2

@@ -145,3 +145,41 @@ def test_a_named_plane_whose_held_dof_is_the_turn_out_of_it_does_not_warn():
         warnings.simplefilter("always")
         model.compile()
     assert not [w for w in said if "as a symmetry plane" in str(w.message)]
+
+
+def cylindrical_panel(edge_deg: float = 20.0) -> tuple[Model, float]:
+    """A cylindrical panel (axis y, R = 100 mm, from the crown x = 0 to ``edge_deg``), 8 x 4
+    cells alternating: its crown x = 0 is a symmetry plane of the whole cylinder, its straight
+    edge at ``edge_deg`` is not (the surface crosses the plane x = R sin(edge) at that angle)."""
+    radius = 100.0
+    flat = Mesh.rectangle(np.radians(edge_deg), 50.0, nx=8, ny=4, diagonals="alternating")
+    theta, y = flat.points[:, 0], flat.points[:, 1]
+    points = np.column_stack([radius * np.sin(theta), y, radius * np.cos(theta)])
+    model = Model(flat.with_points(points))
+    model.add(MindlinShell(ElasticShell(E=70000.0, nu=0.3, thickness=1.0, density=1e-9)))
+    return model, radius * np.sin(np.radians(edge_deg))
+
+
+def test_a_tilt_on_an_edge_that_crosses_its_plane_at_an_angle_is_refused():
+    # The edge's directors lie 18.75 deg from the plane x = const (the surface crosses it at
+    # 20 deg; the nodal normals average the edge cells) where the surface folds by 1.25 deg
+    # from one facet to the next: not a symmetry plane. Laying its directors into the plane
+    # turned them 18.75 deg, silently (a review).
+    model, edge = cylindrical_panel()
+    model.fix(lambda x, y, z: np.abs(x - edge) < 1e-7, ["ux"], tilt="x")
+    with pytest.raises(EntryError, match="not one of its symmetry planes"):
+        model.compile()
+
+
+def test_an_edge_support_named_by_its_dofs_is_not_taken_for_a_symmetry_plane():
+    # The same edge held by ux, uz and alpha (an ordinary support) and the crown by ux and
+    # alpha (a symmetry plane whose alpha is the turn out of it): no advice to declare the
+    # edge with tilt=, which would turn its directors (a review).
+    model, edge = cylindrical_panel()
+    model.fix(lambda x, y, z: np.abs(x - edge) < 1e-7, ["ux", "alpha"])
+    model.fix(lambda x, y, z: np.abs(x - edge) < 1e-7, ["uz"])
+    model.fix(lambda x, y, z: np.abs(x) < 1e-9, ["ux", "alpha"])
+    with warnings.catch_warnings(record=True) as said:
+        warnings.simplefilter("always")
+        model.compile()
+    assert not [w for w in said if "tilt=" in str(w.message)]
