@@ -25,7 +25,7 @@ __all__ = ["softening_strains"]
 
 
 def softening_strains(law: Law) -> tuple[float, float]:
-    """The strains (ln lambda) past which ``law``'s force per current width T / lambda falls.
+    """The strains (ln lambda) past which ``law``'s force per unit reference width T / lambda falls.
 
     Parameters
     ----------

@@ -20,7 +20,7 @@ accepted state must also be one where
   measure of ``ElementBlock.inverted_cells`` of the Mindlin shell, which Static refuses
   too), and no cell is turned inside out by its block's own measure;
 - no fibre strain ln(lambda) of a block that has them (``fibre_strains``) lies past its
-  law's own range (``fibre_strain_range``): where the force per current width T / lambda
+  law's own range (``fibre_strain_range``): where the force per unit reference width T / lambda
   stops rising with the stretch, lambda = e for a linear law (a hundred times the breaking
   strain of any reinforcement fibre), never for a law that stiffens fast enough
   (materials/tension_peak.py); nothing in compression for a law whose force does not fall
@@ -115,7 +115,7 @@ def _past_the_law(block, state: State) -> str | None:
         f"fibre strains ln(lambda) up to {strain:.{digits}g} (a stretch lambda = "
         f"{np.exp(strain):.{digits}g}) in cells {_names(block.cell_ids[over])}, past "
         f"{bound:.{digits}g} (lambda = {np.exp(bound):.{digits}g}), where their tension "
-        f"law's force per current width T / lambda peaks and then falls as the fibre {how}"
+        f"law's force per unit reference width T / lambda peaks and then falls as the fibre {how}"
     )
 
 

@@ -1,4 +1,4 @@
-"""Where a tension law's force per current width T / lambda stops rising
+"""Where a tension law's force per unit reference width T / lambda stops rising
 (materials/tension_peak.py, docs/theory.md §6.4d): d(T / lambda) / d(lambda) = (T' - T) /
 lambda^2, eps = ln(lambda), so the force falls past the first strain where T' - T turns
 negative with T > 0. Each reference below is that closed form worked by hand."""
