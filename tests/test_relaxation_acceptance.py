@@ -80,6 +80,17 @@ def strip(law, cells=4):
     return mesh, model
 
 
+def strip_held_for_a_pull(law=10.0):
+    """``strip(law)`` held for a pull along its warp: its left end in x and z, its right end
+    in z, one corner in y."""
+    mesh, model = strip(law)
+    model.fix("left", ["ux", "uz"])
+    model.fix("right", ["uz"])
+    x, y = mesh.points[:, 0], mesh.points[:, 1]
+    model.fix([int(np.flatnonzero((x == 0) & (y == 0))[0])], ["uy"])
+    return mesh, model
+
+
 def test_a_law_whose_force_only_rises_is_valid_past_a_stretch_of_e():
     # T = C (exp(eps) - 1): T / lambda = C (1 - 1 / lambda) only rises, so a strip pulled to
     # lambda = 3 along its fibres (ln 3 = 1.0986) is a valid state. Before: refused as past

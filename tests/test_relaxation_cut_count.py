@@ -7,11 +7,9 @@ import numpy as np
 import pytest
 
 import solvers.relaxation as relaxation
-from elements import FibrousShell
-from femcore import Mesh, Model
-from materials import Fabric
 from solvers import ConvergenceError, DynamicRelaxation
 from solvers.relaxation_cuts import InvalidState, relax_in_halves
+from tests.test_relaxation_acceptance import strip_held_for_a_pull
 
 
 def all_in_the_first_half(tau):
@@ -24,14 +22,7 @@ def pulled_strip():
     """A 40 x 10 mm fibrous strip (4 x 1 cells, linear tension 10 N/mm) pulled along its
     warp to 2.5 times its length in the first of two increments: a jump of its end node far
     past the law's peak (lambda = e), which relaxation halves (2 halvings, 1 s)."""
-    mesh = Mesh.rectangle(40.0, 10.0, 4, 1)
-    model = Model(mesh)
-    fabric = Fabric(thickness=0.3, areal_density=1e-9, tension=10.0, shear=0.1, bending=0.01)
-    model.add(FibrousShell(fabric))
-    model.fix("left", ["ux", "uz"])
-    model.fix("right", ["uz"])
-    x, y = mesh.points[:, 0], mesh.points[:, 1]
-    model.fix([int(np.flatnonzero((x == 0) & (y == 0))[0])], ["uy"])
+    _, model = strip_held_for_a_pull()
     model.displace("right", ux=1.5 * 40.0, amplitude=all_in_the_first_half)
     return model
 

@@ -6,15 +6,12 @@ where a tool's motion does (solvers/relaxation_cuts.py ``more_increments``)."""
 
 import warnings
 
-import numpy as np
 import pytest
 
-from elements import FibrousShell
 from elements.tools import RigidPlane
-from femcore import Mesh, Model
-from materials import Fabric
 from solvers import ConvergenceError, DivergenceError, DynamicRelaxation
 from solvers.relaxation_cuts import CUTS, more_increments
+from tests.test_relaxation_acceptance import strip_held_for_a_pull
 from validation import specimens
 
 
@@ -37,14 +34,7 @@ def pulled_by_a_plane(stretch):
     """A 40 x 10 mm fibrous strip (4 x 1 cells, linear tension 10 N/mm) whose right end a
     rigid plane behind it pushes out along x to ``stretch`` times its length: nothing but
     the tool's motion loads it."""
-    mesh = Mesh.rectangle(40.0, 10.0, 4, 1)
-    model = Model(mesh)
-    fabric = Fabric(thickness=0.3, areal_density=1e-9, tension=10.0, shear=0.1, bending=0.01)
-    model.add(FibrousShell(fabric))
-    model.fix("left", ["ux", "uz"])
-    model.fix("right", ["uz"])
-    x, y = mesh.points[:, 0], mesh.points[:, 1]
-    model.fix([int(np.flatnonzero((x == 0) & (y == 0))[0])], ["uy"])
+    _, model = strip_held_for_a_pull()
     plane = RigidPlane(
         point=(39.84, 0.0, 0.0), normal=(1.0, 0.0, 0.0), motion=((stretch - 1) * 40.0, 0.0, 0.0)
     )
