@@ -99,7 +99,7 @@ from elements.contact_history import (
 )
 from elements.contact_penalty import PENALTY_SHARE, automatic_penalty, damping_ratio
 from elements.contact_reports import penetration_report
-from elements.contact_set_model import set_model, with_set
+from elements.contact_set_model import released_slip, set_model, touch_changes, with_set
 from elements.contact_start import check_start_gaps
 from elements.contact_tangent import friction_tangent
 from elements.node_rows import add_node_forces, distinct_nodes, row_sums, same_rows, shifted
@@ -479,11 +479,13 @@ class ContactBlock(InteractionBlock):
             before = before & ~released
             kept = history.sliding if history.sliding is not None else sliding
             kept_direction = history.direction if history.direction is not None else direction
+            # a set whose stick and slip were left to the return mapping keeps them so
+            mapped = history.sliding is None and self.friction > 0.0  # (solvers/slip_sets.py)
             return replace(
                 history,
                 active=before | added,
-                sliding=np.where(added, sliding, kept),
-                direction=np.where(added[:, None], direction, kept_direction),
+                sliding=None if mapped else np.where(added, sliding, kept),
+                direction=None if mapped else np.where(added[:, None], direction, kept_direction),
                 normal=np.where(added[:, None], n, frozen_normal),
             ), int(added.sum() + released.sum())
         if history.sliding is not None:
@@ -494,6 +496,7 @@ class ContactBlock(InteractionBlock):
 
     set_model = set_model  # the frozen set's linear model (elements/contact_set_model.py)
     with_set = staticmethod(with_set)
+    touch_changes, released_slip = touch_changes, staticmethod(released_slip)
 
     def thaw(self, history: FrictionHistory | None):
         """The history without its frozen set (None for a frictionless contact)."""

@@ -375,6 +375,18 @@ class InteractionBlock(ReadOnlyState, ABC):
         again); the default returns it as it is."""
         return history
 
+    def touch_changes(self, state: State, history: Any) -> int | None:
+        """For a set frozen with stick and slip states (friction): the number of nodes whose
+        touching at ``state`` differs from the set frozen in ``history``, their stick and slip
+        states aside (solvers/slip_sets.py). The default, None: no such states (``freeze``'s
+        count is all of it)."""
+        return None
+
+    def released_slip(self, history: Any) -> Any:
+        """``history`` with its frozen set kept and its stick and slip states left to the
+        return mapping (solvers/slip_sets.py); the default: as it is."""
+        return history
+
     def carried_by_tool(
         self, state: State, history: Any, start: float, end: float
     ) -> tuple[np.ndarray, np.ndarray] | None:
@@ -404,8 +416,12 @@ class InteractionBlock(ReadOnlyState, ABC):
         static solver predicts the next set (solvers/contact_sets.py): a dict of the points
         that may switch ("points" (r,)), the entries of dg/dq in the generalised unknowns of
         ``dofs`` in ``frames`` ("slots", "values" (r, 30)), "gap" (r,) mm, "stiffness" (r,)
-        N/mm, "active" (r,) bool and "pressure" (r,) N (elements/ply_active_set.py). The
-        default, None: no set to predict (asked of every interaction at every iteration)."""
+        N/mm, "active" (r,) bool and "pressure" (r,) N (elements/ply_active_set.py); and
+        optionally "forces" (r, 30), a row's force direction F where it is not its gradient
+        (the point adds k g F to the forces, k F G^T to the tangent), "leader" (r,) int, the
+        row whose rule decides each row (its own by default; elements/contact_set_model.py).
+        The default, None: no set to predict (asked of every interaction at every
+        iteration)."""
         return None
 
     def with_set(

@@ -99,6 +99,7 @@ def predicted_sets(
     k = np.concatenate([found["stiffness"] for _, _, found in pieces])
     start = np.concatenate([found["active"] for _, _, found in pieces])
     pressure = np.concatenate([found["pressure"] for _, _, found in pieces])
+    leader = _leaders(pieces)
     imposed = rows.imposed
     pull = pressure if interaction.ACTIVE_SET_HYSTERESIS else 0.0  # the blocks' own rule
     active, step = start.copy(), delta_free
@@ -109,7 +110,7 @@ def predicted_sets(
     solves = np.empty((rows.free, 0))
     column_of = np.full(len(k), -1)
     for _ in range(MAX_PASSES):
-        chosen = pull - k * rows.linear(step) > 0.0
+        chosen = (pull - k * rows.linear(step) > 0.0)[leader]
         if np.array_equal(chosen, active):
             break
         active = chosen
@@ -185,6 +186,19 @@ def predicted_sets(
 STEP_RESIDUAL = 1e-4
 
 
+def _leaders(pieces: list) -> np.ndarray:
+    """(r,) int: for each row of the stacked ``set_model`` answers, the row whose rule decides
+    it (its own, or the answer's ``"leader"`` of the same answer: a frictional node's stick
+    rows follow its gap's row, elements/contact_set_model.py)."""
+    out, offset = [], 0
+    for _, _, found in pieces:
+        count = len(found["points"])
+        own = found.get("leader")
+        out.append(offset + (np.arange(count) if own is None else np.asarray(own)))
+        offset += count
+    return np.concatenate(out)
+
+
 def _capacity_solve(capacity: np.ndarray, right: np.ndarray) -> np.ndarray:
     """The capacitance system's solution (m,) (its own function so that a test can spoil it)."""
     return np.linalg.solve(capacity, right)
@@ -221,22 +235,28 @@ class SetRows:
     Attributes
     ----------
     values : (r, 30) the entries of the rows on the free unknowns (0 on the prescribed).
+    forces : (r, 30) the entries of the points' force directions F_i on the free unknowns:
+        a point adds k g F_i to the internal forces and k F_i^T G_i to the tangent; F_i =
+        G_i unless its ``set_model`` answer gives ``"forces"`` (a sliding frictional node,
+        whose friction mu k p follows its gap: elements/contact_set_model.py).
     where : (r, 30) int, the entries' free unknowns (0 where prescribed: ``values`` is 0).
     slots : (r, 30) int, ``values``'s slots among all n 5 unknowns (``spread``).
-    all_values : (r, 30) the entries on every unknown.
+    all_forces : (r, 30) the entries of F_i on every unknown.
     gap : (r,) mm, the points' gaps; imposed : (r,) mm, with the prescribed motion's part.
     free : the number of free unknowns f; size : n 5.
     """
 
-    def __init__(self, slots, values, gap, dofs, left):
+    def __init__(self, slots, values, gap, dofs, left, forces=None):
         free_slots, moved = dofs.free_slots, dofs.prescribed_slots
         self.size, self.free = int(dofs.free.size), int(free_slots.size)
         free_of = np.full(self.size, -1, dtype=np.int64)
         free_of[free_slots] = np.arange(self.free)
         where = free_of[slots]
         on_free = where >= 0
-        self.slots, self.all_values, self.gap = slots, values, gap
+        forces = values if forces is None else forces
+        self.slots, self.all_forces, self.gap = slots, forces, gap
         self.values = np.where(on_free, values, 0.0)
+        self.forces = np.where(on_free, forces, 0.0)
         self.where = np.where(on_free, where, 0)
         self.on_free = on_free
         if moved.size:  # the gaps with the prescribed part of the step
@@ -256,6 +276,7 @@ class SetRows:
             np.concatenate([found["gap"] for _, _, found in pieces]),
             dofs,
             left,
+            np.concatenate([found.get("forces", found["values"]) for _, _, found in pieces]),
         )
 
     def linear(self, step: np.ndarray) -> np.ndarray:
@@ -264,10 +285,11 @@ class SetRows:
         return self.imposed + np.sum(self.values * step[self.where], axis=1)
 
     def columns(self, points: np.ndarray) -> np.ndarray:
-        """(f, m) the columns G_i^T of ``points`` (m,)."""
+        """(f, m) the columns F_i^T of ``points`` (m,) (G_i^T where a row's force direction
+        is its gradient's)."""
         m = len(points)
         place = self.where[points] * m + np.arange(m)[:, None]
-        flat = np.bincount(place.ravel(), self.values[points].ravel(), self.free * m)
+        flat = np.bincount(place.ravel(), self.forces[points].ravel(), self.free * m)
         return flat.reshape(self.free, m)
 
     def times(self, points: np.ndarray, x: np.ndarray) -> np.ndarray:
@@ -278,21 +300,21 @@ class SetRows:
         return np.einsum("ik,ikc->ic", values, x[self.where[points]])
 
     def transposed(self, points: np.ndarray, y: np.ndarray) -> np.ndarray:
-        """(f,) G_points^T y for y (m,)."""
-        weights = (self.values[points] * y[:, None]).ravel()
+        """(f,) F_points^T y for y (m,)."""
+        weights = (self.forces[points] * y[:, None]).ravel()
         return np.bincount(self.where[points].ravel(), weights, self.free)
 
     def spread(self, points: np.ndarray, y: np.ndarray) -> np.ndarray:
-        """(n 5,) G_points^T y on every unknown for y (m,)."""
-        weights = (self.all_values[points] * y[:, None]).ravel()
+        """(n 5,) F_points^T y on every unknown for y (m,)."""
+        weights = (self.all_forces[points] * y[:, None]).ravel()
         return np.bincount(self.slots[points].ravel(), weights, self.size)
 
     def update(self, points: np.ndarray, weight: np.ndarray) -> sp.csc_matrix:
-        """(f, f) sum over ``points`` of weight_i G_i^T G_i on the free unknowns (only the
+        """(f, f) sum over ``points`` of weight_i F_i^T G_i on the free unknowns (only the
         pairs of free entries: no structural entry outside the points' couplings)."""
         values, where, on = self.values[points], self.where[points], self.on_free[points]
         pair = on[:, :, None] & on[:, None, :]
-        data = weight[:, None, None] * values[:, :, None] * values[:, None, :]
+        data = weight[:, None, None] * self.forces[points][:, :, None] * values[:, None, :]
         rows = np.broadcast_to(where[:, :, None], pair.shape)[pair]
         cols = np.broadcast_to(where[:, None, :], pair.shape)[pair]
         return sp.csc_matrix((data[pair], (rows, cols)), shape=(self.free, self.free))

@@ -60,11 +60,12 @@ the sets that state shows, from that state when its residual is already below th
 increment's first iterate, else from the start of the increment (a node held by its stick
 spring where it slides leaves a state far off). After MAX_CONTACT_UPDATES wrong sets the
 increment goes on with the unilateral law itself, which settles the nodes whose contact force
-is near zero (a lift-off) where frozen sets alternate.
+is near zero (a lift-off) where frozen sets alternate; at once where only the stick and slip
+states were wrong (solvers.slip_sets).
 
 Contact sets predicted (solvers.contact_sets): where an interaction's set is an active set of a
 bilateral penalty (the ply contact's ``static_law="active_set"``, elements/ply_active_set.py; a
-frictionless tool contact's frozen set, elements/contact_set_model.py), the set of each step's
+tool contact's frozen set, elements/contact_set_model.py), the set of each step's
 end is chosen on the step's own linear model before the step is taken (the switched points'
 rank-one terms by Sherman-Morrison-Woodbury on the factors made), so that the step and its set
 agree; the line search starts again from the new set. An attempt of such an interaction that
@@ -121,6 +122,7 @@ from solvers.newton_chords import chord_corrections
 from solvers.newton_curvature import curved_step
 from solvers.round_off import RoundOffFloor
 from solvers.saddles import judged
+from solvers.slip_sets import release_slips, slips_alone
 from solvers.stabilisation import Dashpots
 from solvers.stability import downhill, lowest_modes
 from solvers.stop_diagnosis import iterations_spent
@@ -434,8 +436,11 @@ def _iterate(
             if unfrozen is None:  # converged with the wrong contact set: a new one
                 updates += 1
                 near = len(history) > 1 and ratio < history[1]
+                slips = slips_alone(model, state, run.info)  # the return mapping finishes
                 state, forces, watchdog = refreeze(run, equilibrium, start, state, near)
-                if updates >= MAX_CONTACT_UPDATES:  # nodes at zero force (module docstring)
+                if slips:  # the stick and slip states to the return mapping
+                    state = release_slips(model, state)
+                elif updates >= MAX_CONTACT_UPDATES:  # nodes at zero force (module docstring)
                     state, frozen = model.thaw(state), False
                 continue
             state = unfrozen
@@ -602,9 +607,11 @@ def _iterate(
                     return unfrozen, iteration, ratio, history
                 return unfrozen, iteration + escape[0], escape[1], history + escape[2]
             updates += 1
-            near = ratio < history[1]
+            near, slips = ratio < history[1], slips_alone(model, state, run.info)
             state, forces, watchdog = refreeze(run, equilibrium, start, state, near)
-            if updates >= MAX_CONTACT_UPDATES:
+            if slips:
+                state = release_slips(model, state)
+            elif updates >= MAX_CONTACT_UPDATES:
                 state, frozen = model.thaw(state), False
             continue
         run.progress(
