@@ -56,9 +56,13 @@ def set_model(
     v at a sliding node), "gap": (r,) mm (g = d - h/2, or s . t_j), "stiffness": (r,) N/mm (k,
     or k_t), "active": (r,) bool, the frozen set, "pressure": (r,) N, zero, "leader": (r,) int,
     the row whose rule decides (a stick row's node's gap row)}: the gap rows first, one a
-    contact node, then two stick rows a stuck node. ``frames`` is not read: the rows have no
-    rotation entries."""
-    del frames, dofs
+    contact node, then two stick rows a stuck node. A node none of whose translations is free
+    or prescribed in ``dofs`` (None: every node counts) has no row: no step moves its gap,
+    and the iterations' rule keeps its membership (a node clamped on the tool at a gap of
+    round-off, which the model's g + G dq < 0 took out at every prediction and the converged
+    check's d <= h/2 + tolerance put back). ``frames`` is not read: the rows have no rotation
+    entries."""
+    del frames
     if not isinstance(history, FrictionHistory) or history.active is None:
         return None
     if block.tool_node is not None:
@@ -68,14 +72,16 @@ def set_model(
         return None  # (an augmented contact's stick traction is not a row's spring)
     d, n = block.tool.distance(block._positions(state), state.load_factor)
     count = len(d)
+    kept = np.arange(count)
+    if dofs is not None:
+        moving = (dofs.free | dofs.prescribed).reshape(-1, N_COLUMNS)[:, :3].any(axis=1)
+        kept = np.flatnonzero(moving[block.connectivity[:, 0]])
     active = np.asarray(history.active, dtype=bool)
     gap = np.asarray(d - block.surface_offset(history), dtype=float)
-    values = np.zeros((count, 3))
-    values[:] = n
-    forces = values.copy()
+    values = n.copy()
+    forces = n.copy()
     stiffness = np.asarray(block.stiffness, dtype=float)
-    points = np.arange(count)
-    gaps = [gap]
+    points, gaps, leader = kept, [gap[kept]], np.arange(len(kept))
     if rough:
         p, n, touching = block.touch(state, history)
         _, s, stuck, sliding = block.tangential(state, history, p, n, touching)
@@ -84,14 +90,19 @@ def set_model(
         along = block._slip_direction(history, n)
         forces[pressed] -= block.friction * along[pressed]
         # a stuck node's spring k_t s in its tangent plane: two rows that follow its gap's
-        held = np.flatnonzero(stuck)
+        row_of = np.full(count, -1)
+        row_of[kept] = np.arange(len(kept))
+        held = np.flatnonzero(stuck & (row_of >= 0))
         first, second = tangents(n[held])
-        values = np.concatenate([values, first, second])
-        forces = np.concatenate([forces, first, second])
+        values = np.concatenate([values[kept], first, second])
+        forces = np.concatenate([forces[kept], first, second])
         gaps += [np.sum(s[held] * first, axis=1), np.sum(s[held] * second, axis=1)]
         k_t = block.stiffness[held] * block.stick_ratio
-        stiffness = np.concatenate([stiffness, k_t, k_t])
-        points = np.concatenate([points, held, held])
+        stiffness = np.concatenate([stiffness[kept], k_t, k_t])
+        points = np.concatenate([kept, held, held])
+        leader = np.concatenate([leader, row_of[held], row_of[held]])
+    else:
+        values, forces, stiffness = values[kept], forces[kept], stiffness[kept]
     rows = len(points)
     nodes = block.connectivity[points, 0]
     slots = np.repeat((nodes * N_COLUMNS)[:, None], 30, axis=1)
@@ -107,7 +118,7 @@ def set_model(
         "stiffness": stiffness,
         "active": active[points],
         "pressure": np.zeros(rows),
-        "leader": points,  # the gap rows come first, one a node: row i is node i's
+        "leader": leader,
     }
 
 

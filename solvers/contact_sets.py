@@ -15,7 +15,10 @@ switched points is solved with the factors already made by the Sherman-Morrison-
 formula (Hager, SIAM Review 31 (1989) 221), m solves for m switched points, until the rule
 keeps the set (at most MAX_PASSES times): a primal-dual active set on the iteration's linear
 complementarity problem, at the cost of back-substitutions, not of tangents or
-factorisations.
+factorisations. A point's force may lie along another vector F_i than its gradient (a
+sliding frictional node's n - mu v: the term k F_i G_i, not symmetric, is taken with F_i on
+the left), and rows may follow another row's rule (a stuck node's stick rows, its gap's;
+elements/contact_set_model.py).
 
 How, cheaply. The new switched points' columns G_i^T are solved together, one pass of the
 band's factors for all of them (solvers.band ``BandLDLT.solve_columns``, without the
