@@ -64,7 +64,8 @@ from solvers.common import (
 )
 from solvers.convergence import Equilibrium
 from solvers.dynamics import damped_velocity
-from solvers.fictitious_masses import TURN, GershgorinMasses, PhysicalMasses, RelaxationMasses
+from solvers.factored_masses import FactoredMasses, factored_fallback
+from solvers.fictitious_masses import GershgorinMasses, PhysicalMasses, RelaxationMasses
 from solvers.force_floor import round_off_force, unloaded_floor
 from solvers.interrupts import STOP, Interrupted, check_outputs, keeps_writes
 from solvers.output import checkpoint_path, resume, save_checkpoint
@@ -77,7 +78,7 @@ from solvers.tool_penetration import record_tool_penetration
 __all__ = ["DAMPING_KINDS", "MASS_KINDS", "PLATEAU_FACTOR", "DynamicRelaxation"]
 
 DAMPING_KINDS = ("kinetic", "viscous")
-MASS_KINDS = ("gershgorin", "lumped")
+MASS_KINDS = ("gershgorin", "lumped", "factored")
 
 
 #: Iterations between re-estimates of the fictitious masses (``refresh``'s default).
@@ -275,6 +276,8 @@ class DynamicRelaxation:
         masses: RelaxationMasses = (
             GershgorinMasses(compiled, self.safety, own)
             if self.masses == "gershgorin"
+            else FactoredMasses(GershgorinMasses(compiled, self.safety, own))
+            if self.masses == "factored"
             else PhysicalMasses(compiled, self.safety)
         )
         iterations: list[int] = []
@@ -538,6 +541,21 @@ class DynamicRelaxation:
                 continue
 
             if plateau.stalled(iteration, ratio):
+                if (factored := factored_fallback(masses)) is not None:
+                    # Stalled on a slow mode of the diagonal masses (stiff fibres against a
+                    # soft bending): go on from rest here with the factored stiffness as
+                    # the masses, a fresh watch (docs/theory.md §6.4a, "Factored masses").
+                    masses, plateau = factored, Plateau(self.plateau_iterations)
+                    mass, inertia, dt = masses(state, inflate)
+                    inv_inertia = inverse_diagonal(inertia)
+                    estimated_at, at_rest, rest_rotation = (
+                        iteration,
+                        state,
+                        rotation_since_start.copy(),
+                    )
+                    velocity, omega = np.zeros_like(velocity), np.zeros_like(omega)
+                    kinetic_old, restart, previous, c = 0.0, True, None, 0.0
+                    continue
                 raise ConvergenceError(
                     plateau.message(self, model, increment, load_factor, ratio),
                     None,
@@ -598,7 +616,7 @@ class DynamicRelaxation:
             restart = False
             if masses.fictitious and (
                 (not kinetic_damping and iteration - estimated_at >= self.refresh)
-                or (iteration % _TURN_CHECK == 0 and masses.turned(state) > TURN)
+                or (iteration % _TURN_CHECK == 0 and masses.turned(state) > masses.turn)
                 or masses.approached(state)
             ):
                 # Viscous damping never stops the motion, a surface that turned far brings
