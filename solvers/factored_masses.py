@@ -93,6 +93,7 @@ class FactoredMasses(RelaxationMasses):
 
     fictitious = True
     every_restart = False
+    switches = 0  # (factored from the start: no stall went on with them)
 
     def __init__(self, base: GershgorinMasses):
         self.base = base
@@ -100,7 +101,7 @@ class FactoredMasses(RelaxationMasses):
         self.shifted = 0  # estimates that needed a shift to be positive definite
 
     @property
-    def estimates(self) -> int:  # type: ignore[override]
+    def estimates(self) -> int:
         return self.base.estimates
 
     @estimates.setter
@@ -108,7 +109,7 @@ class FactoredMasses(RelaxationMasses):
         self.base.estimates = value
 
     @property
-    def recoveries(self) -> int:  # type: ignore[override]
+    def recoveries(self) -> int:
         return self.base.recoveries
 
     @recoveries.setter
@@ -164,5 +165,6 @@ def factored_fallback(masses: RelaxationMasses) -> FactoredMasses | None:
     (docs/theory.md §6.4a, "Factored masses"), or None for other masses (the physical ones,
     or factored already)."""
     if type(masses) is GershgorinMasses:
+        masses.switches += 1
         return FactoredMasses(masses)
     return None

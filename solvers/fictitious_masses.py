@@ -85,6 +85,7 @@ class RelaxationMasses:
     def __init__(self) -> None:
         self.estimates = 0
         self.recoveries = 0
+        self.switches = 0  # stalled increments that went on with the factored masses
 
     def __call__(self, state: State, inflate: float) -> tuple[NodeMass, np.ndarray, float]:
         raise NotImplementedError
