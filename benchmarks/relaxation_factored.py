@@ -13,12 +13,17 @@ iterations, seconds, estimates of the masses and its tip against the heavy elast
 Run: python benchmarks/relaxation_factored.py [--nx 50] [--only reference,default,factored]
 One core (NUMBA_NUM_THREADS=1).
 
-Measured (python 3.11, x86_64, 2 cores shared with other jobs, load 10-14; iterations, wall):
+Measured (python 3.11.7, x86_64, one job of mine on 2 cores shared with other jobs, load 11-21,
+so the seconds are loose; the three runs one after another in one process):
 
-    run                          iterations   estimates   tip x, z against (45.6, -61.8) mm
-    gershgorin, no watch         see below
-    default (switch at stall)    68 433       94          (45.63, -61.81)
-    factored from the start      47 814       81          (45.63, -61.81)
+    run                        iterations   wall     ms/iter   estimates   tip x, z (mm)
+    reference (no watch)       127 814      590 s    4.6       95          45.63, -61.81
+    default (switch at stall)   68 433      380 s    5.5       94          45.63, -61.81
+    factored from the start     47 814      188 s    3.9       81          45.63, -61.81
+
+The heavy elastica puts the tip at (45.63, -61.80). The default's switch came at 40 000
+iterations (the watch's second check), where the Gershgorin masses with the watch stopped as
+stalled before this change.
 """
 
 from __future__ import annotations
