@@ -87,6 +87,31 @@ def test_only_the_gershgorin_masses_fall_back_to_the_factored_ones():
     assert factored_fallback(PhysicalMasses(compiled, 0.9)) is None
 
 
+def test_an_increment_stalled_with_the_gershgorin_masses_goes_on_with_the_factored_ones():
+    """The strip of cases/strip_over_cylinder.toml without its cylinder, 10 cells along: a
+    heavy cantilever. With a watch of 1000 iterations the Gershgorin masses stall (before:
+    ConvergenceError "stalled"; they converge in 19 487 iterations without the watch), and the
+    increment goes on once with the factored masses to convergence (6265 iterations measured).
+    Reference: the heavy elastica (validation/references/elastica.py heavy_cantilever, tip
+    (45.16, -62.19) mm) within 1 mm, the 10-cell mesh's own gap (0.33 and 0.65 mm, the same
+    with the Gershgorin masses alone to 0.01 mm)."""
+    from fibreshell.case import case_from_data, read_case_data
+    from fibreshell.sweep import apply_overrides
+    from validation.references.elastica import heavy_cantilever
+
+    path = ROOT / "cases" / "strip_over_cylinder.toml"
+    tables, _ = apply_overrides(read_case_data(path), {"mesh.rectangle.nx": 10})
+    del tables["contact"]
+    case = case_from_data(tables, path)
+    solver = DynamicRelaxation(plateau_iterations=1000, progress=False)
+    result = solver.solve(case.model())
+    assert result.converged and result.info["factored_after_stall"] == 1
+    reference = heavy_cantilever(100.0, 1.66e-9 * 9810.0, 0.833)
+    tip = result.positions[case.mesh.nodes("tip")]
+    np.testing.assert_allclose(tip[:, 0], reference["tip_x"], atol=1.0)
+    np.testing.assert_allclose(tip[:, 2], 20.5 - reference["tip_deflection"], atol=1.0)
+
+
 @pytest.mark.slow
 def test_the_shipped_strip_over_a_cylinder_relaxes_at_the_defaults():
     """cases/strip_over_cylinder.toml (50 cells) by DynamicRelaxation at its defaults. Before:
