@@ -70,6 +70,8 @@ class RelaxationMasses:
 
     fictitious = False
     every_restart = True
+    #: the turn (rad) of a surface normal after which the masses are made again
+    turn = TURN
 
     def turned(self, state: State) -> float:
         """The largest turn (rad) of a surface normal since the last estimate."""
@@ -83,6 +85,7 @@ class RelaxationMasses:
     def __init__(self) -> None:
         self.estimates = 0
         self.recoveries = 0
+        self.switches = 0  # stalled increments that went on with the factored masses
 
     def __call__(self, state: State, inflate: float) -> tuple[NodeMass, np.ndarray, float]:
         raise NotImplementedError
@@ -137,6 +140,13 @@ class GershgorinMasses(RelaxationMasses):
 
     def __call__(self, state: State, inflate: float) -> tuple[NodeMass, np.ndarray, float]:
         self.estimates += 1
+        k, axes, local = self.stiffness(state)
+        rows = self.row_sums(k)
+        return self.diagonal(state, inflate, rows, axes, local)
+
+    def stiffness(self, state: State) -> tuple[sp.csr_matrix, np.ndarray, np.ndarray]:
+        """The tangent stiffness at ``state`` in the node axes (Q^T K Q, all slots), the
+        node axes (n, 3, 3) and which nodes take a shell's own axes (n,) bool."""
         model, dofs = self.model, self.model.dofs
         n = dofs.n_nodes
         frames = dofs.frames(state.directors)
@@ -161,7 +171,13 @@ class GershgorinMasses(RelaxationMasses):
             normals = nodal_normals(state.positions, self.triangles)[local]
             t1, t2 = nodal_frames(normals)
             axes[local] = np.stack([t1, t2, normals], axis=2)
-        k = _in_node_axes(k, axes)
+        return _in_node_axes(k, axes), axes, local
+
+    def row_sums(self, k: sp.csr_matrix) -> np.ndarray:
+        """The Gershgorin row sums of D^-1 |K| D (see below) per slot, (n, N_COLUMNS), N/mm on
+        the translations and N mm on the rotations; 0 on the slots that are not free."""
+        dofs = self.model.dofs
+        n = dofs.n_nodes
         free = dofs.free_slots
         rows = np.zeros(dofs.n_slots)
         # The row sums of D^-1 |K| D, D = 1 on the translations and 1 / L_e on the rotations:
@@ -179,13 +195,20 @@ class GershgorinMasses(RelaxationMasses):
             rows[free] = np.asarray(magnitudes.sum(axis=1)).ravel()
         else:
             rows[free] = np.asarray(magnitudes @ d).ravel() / d
-        rows = rows.reshape(n, N_COLUMNS) * (self.scale * inflate)
-        mass = rows[:, :3]
+        return rows.reshape(n, N_COLUMNS)
+
+    def diagonal(
+        self, state: State, inflate: float, rows: np.ndarray, axes: np.ndarray, local: np.ndarray
+    ) -> tuple[NodeMass, np.ndarray, float]:
+        """The diagonal masses from the row sums ``rows`` (n, N_COLUMNS) in the node ``axes``."""
+        model, dofs = self.model, self.model.dofs
+        rows = rows * (self.scale * inflate)
+        mass = rows[:, :3].copy()
         # Elsewhere (cables, partly held nodes) one mass for the three axes: global axes do
         # not turn with the body, and a stiffness that the motion turns onto a light axis
         # would blow up before the next estimate.
         mass[~local] = mass[~local].max(axis=1, initial=0.0)[:, None]
-        mass[local, 2] += TURN**2 * mass[local, :2].max(axis=1)
+        mass[local, 2] += self.turn**2 * mass[local, :2].max(axis=1)
         if self.springy:
             # A spring bounds its stiffness along any direction: the same on the three axes.
             springs, watch = model.reachable_springs(state, self.reach, self.springy)

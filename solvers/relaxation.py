@@ -64,20 +64,21 @@ from solvers.common import (
 )
 from solvers.convergence import Equilibrium
 from solvers.dynamics import damped_velocity
-from solvers.fictitious_masses import TURN, GershgorinMasses, PhysicalMasses, RelaxationMasses
+from solvers.factored_masses import FactoredMasses, factored_fallback
+from solvers.fictitious_masses import GershgorinMasses, PhysicalMasses, RelaxationMasses
 from solvers.force_floor import round_off_force, unloaded_floor
 from solvers.interrupts import STOP, Interrupted, check_outputs, keeps_writes
 from solvers.output import checkpoint_path, resume, save_checkpoint
 from solvers.progress import relaxed_share
 from solvers.relaxation_cuts import InvalidState, more_increments, relax_in_halves
-from solvers.relaxation_watch import PLATEAU_FACTOR, Plateau
+from solvers.relaxation_watch import PLATEAU_FACTOR, STALL_RATIO, Plateau, stall_message
 from solvers.step import advance, angular_rates
 from solvers.tool_penetration import record_tool_penetration
 
 __all__ = ["DAMPING_KINDS", "MASS_KINDS", "PLATEAU_FACTOR", "DynamicRelaxation"]
 
 DAMPING_KINDS = ("kinetic", "viscous")
-MASS_KINDS = ("gershgorin", "lumped")
+MASS_KINDS = ("gershgorin", "lumped", "factored")
 
 
 #: Iterations between re-estimates of the fictitious masses (``refresh``'s default).
@@ -98,7 +99,7 @@ class DynamicRelaxation:
     damping : "kinetic" (default) or "viscous"
         Kinetic damping (reset at each kinetic-energy peak) or adaptive viscous damping
         c = 2 sqrt(u.K u / u.M u) with the masses in use.
-    masses : "gershgorin" (default) or "lumped"
+    masses : "gershgorin" (default), "factored" or "lumped"
         "gershgorin": fictitious masses from a Gershgorin bound of the tangent stiffness K of
         the free DOFs, so that every DOF has the same stability limit at the nominal step
         dt = 1 (Underwood 1983): m_i = sum_j |K_ij| / (4 safety^2), N/mm x s^2 for the
@@ -110,7 +111,9 @@ class DynamicRelaxation:
         iterations have passed (every ``refresh`` iterations with viscous damping), when a
         surface normal has turned by 0.03 rad or a node came to a contact (its clearance;
         docs/theory.md §6.4a), after a blow-up (from the last state at rest, doubled if
-        that state was already recovered once). "lumped": the physical
+        that state was already recovered once). "factored": the translations' masses the
+        factorised stiffness itself, bounded as the Gershgorin masses (solvers.factored_masses;
+        what a stalled "gershgorin" increment goes on with). "lumped": the physical
         lumped masses and rotary inertia with ``safety`` x the stable step of the model; the
         iterations then grow like omega_max / omega_min of the physical model.
     safety : float in (0, 1]
@@ -129,7 +132,9 @@ class DynamicRelaxation:
         The progress watch: every this many iterations of an increment, its smallest
         residual ratio must have fallen to PLATEAU_FACTOR (0.9) of what it was at the last
         check (at the first, of the first ratio), or the run stops as stalled
-        (ConvergenceError; the converged increments kept); None: no such watch. Default
+        (ConvergenceError; the converged increments kept), except that a "gershgorin"
+        increment goes on once with the "factored" masses, from rest where it stalled
+        (``info["factored_after_stall"]`` counts them); None: no such watch. Default
         20 000: a converging relaxation gains far more (a ratio of 1e-4 in 100 000 iterations
         is a factor 6 per 20 000), but may hold its best ratio for a while (a 160-link chain
         relaxed from a box shape swings down for 10 000 iterations before improving on the
@@ -275,6 +280,8 @@ class DynamicRelaxation:
         masses: RelaxationMasses = (
             GershgorinMasses(compiled, self.safety, own)
             if self.masses == "gershgorin"
+            else FactoredMasses(GershgorinMasses(compiled, self.safety, own))
+            if self.masses == "factored"
             else PhysicalMasses(compiled, self.safety)
         )
         iterations: list[int] = []
@@ -297,6 +304,7 @@ class DynamicRelaxation:
             state, frames, done = payload["state"], payload["frames"], payload["increment"]
             iterations, residuals = payload["iterations"], payload["residuals"]
             masses.estimates, masses.recoveries = payload["estimates"], payload["recoveries"]
+            masses.switches = payload.get("switches", 0)  # (absent from older checkpoints)
             cuts = payload.get("cuts", 0)  # (absent from older checkpoints)
             # the wall time counts the increments before the stop too
             earlier = payload.get("wall_time", 0.0)  # (absent from older checkpoints)
@@ -380,6 +388,7 @@ class DynamicRelaxation:
                         "residuals": residuals,
                         "estimates": masses.estimates,
                         "recoveries": masses.recoveries,
+                        "switches": masses.switches,
                         "cuts": cuts,
                         "wall_time": time.perf_counter() - started,
                     },
@@ -403,6 +412,7 @@ class DynamicRelaxation:
             "residual_ratio_per_increment": list(residuals),
             "mass_estimates": masses.estimates,
             "recoveries": masses.recoveries,
+            "factored_after_stall": masses.switches,
             "cuts": cuts,
             "tol": self.tol,
         }
@@ -538,12 +548,30 @@ class DynamicRelaxation:
                 continue
 
             if plateau.stalled(iteration, ratio):
+                if (factored := factored_fallback(masses)) is not None:
+                    # a slow mode of the diagonal masses: on from rest with the factored
+                    # stiffness as masses, a fresh watch (docs/theory.md §6.4a)
+                    masses, plateau = factored, Plateau(self.plateau_iterations)
+                    mass, inertia, dt = masses(state, inflate)
+                    inv_inertia = inverse_diagonal(inertia)
+                    estimated_at, at_rest = iteration, state
+                    rest_rotation = rotation_since_start.copy()
+                    velocity, omega = np.zeros_like(velocity), np.zeros_like(omega)
+                    kinetic_old, restart, previous, c = 0.0, True, None, 0.0
+                    continue
                 raise ConvergenceError(
-                    plateau.message(self, model, increment, load_factor, ratio),
+                    plateau.message(
+                        self,
+                        model,
+                        increment,
+                        load_factor,
+                        ratio,
+                        isinstance(masses, FactoredMasses),
+                    ),
                     None,
                     steps=iteration,
                 )
-            if ratio <= _STALL_RATIO:
+            if ratio <= STALL_RATIO:
                 high_since = iteration + 1
             elif iteration - high_since >= self.stall_iterations and (
                 float(np.abs(state.positions - start_positions).max()) > size_of_model
@@ -551,7 +579,7 @@ class DynamicRelaxation:
                 # The out-of-balance did not fall and the model has moved farther than its own
                 # size: nothing holds the motion (a slow but supported relaxation stays put).
                 raise ConvergenceError(
-                    _stall_message(model, increment, self, load_factor), None, steps=iteration
+                    stall_message(model, increment, self, load_factor), None, steps=iteration
                 )
 
             step = 0.5 * dt if restart else dt
@@ -598,7 +626,7 @@ class DynamicRelaxation:
             restart = False
             if masses.fictitious and (
                 (not kinetic_damping and iteration - estimated_at >= self.refresh)
-                or (iteration % _TURN_CHECK == 0 and masses.turned(state) > TURN)
+                or (iteration % _TURN_CHECK == 0 and masses.turned(state) > masses.turn)
                 or masses.approached(state)
             ):
                 # Viscous damping never stops the motion, a surface that turned far brings
@@ -652,8 +680,6 @@ _BLOW_UP = 1e3
 _TURN_CHECK = 10
 #: The fictitious masses are doubled at most until they reach this factor (2^10).
 _MAX_INFLATION = 1024.0
-#: A residual ratio above this has not fallen (the mechanism watch).
-_STALL_RATIO = 0.5
 
 
 def _iteration_status(increment: int, iteration: int, ratio: float, tol: float) -> str:
@@ -673,22 +699,6 @@ def _interrupted(error: Interrupted, increment: int, increments: int, saved_at) 
     return (
         f"dynamic relaxation interrupted by {error.signal} in increment {increment}/"
         f"{increments} ({error.args[0]}); {kept}"
-    )
-
-
-def _stall_message(model: CompiledModel, increment: int, solver, load_factor: float) -> str:
-    motions = model.unheld_rigid_motions(loaded_only=False)
-    cause = (
-        f"the supports leave rigid motions free ({'; '.join(motions)})"
-        if motions
-        else "no rigid motion of the whole model is free, so a part or a mechanism moves "
-        "without resistance"
-    )
-    return (
-        f"dynamic relaxation stopped in increment {increment}/{solver.increments} (load factor "
-        f"{load_factor:.4g}): the residual did not fall (ratio above {_STALL_RATIO} for "
-        f"{solver.stall_iterations} iterations), nothing stops the motion: {cause}. Fix or "
-        "prescribe DOFs that hold it, or balance the loads."
     )
 
 

@@ -196,10 +196,10 @@ def test_a_stall_names_the_free_rigid_motions_part_by_part():
     # free, each part's motions with the part: the free cable's three translations and its
     # turns about y and z (a turn about its own line moves none of its nodes); the pinned
     # cable turns only about the line through its pins, its own, which moves nothing either.
-    from solvers.relaxation import _stall_message
+    from solvers.relaxation_watch import stall_message
 
     solver = DynamicRelaxation(increments=2, stall_iterations=500)
-    message = _stall_message(two_cables().compile(), 1, solver, 0.5)
+    message = stall_message(two_cables().compile(), 1, solver, 0.5)
     assert "residual did not fall" in message and "nothing stops the motion" in message
     assert (
         "(translation along x, translation along y, translation along z, rotation about y, "

@@ -79,15 +79,16 @@ def test_a_node_far_from_every_tool_keeps_the_mass_its_elements_give_it():
 
 @pytest.mark.slow
 def test_the_shipped_strip_over_a_cylinder_relaxes_to_the_equilibrium_static_reaches():
-    """cases/strip_over_cylinder.toml by relaxation, at 20 cells along (``mesh.rectangle.nx``;
-    at the case's 50, omega_max / omega_min of its fictitious masses is 1.60e4 at the
-    equilibrium, the stiff fibres against the bending, contact or not, and it stalls on the
-    progress watch: docs/theory.md §6.4a): every node within 2e-3 mm of Static's equilibrium
-    on the same mesh (measured 6.2e-4: the relaxation stops at 1e-4 of the forces) and the
-    tip within 0.3 mm of the heavy elastica (validation/references/elastica.py, as
+    """cases/strip_over_cylinder.toml by relaxation, at 20 cells along (``mesh.rectangle.nx``; at
+    the case's 50, omega_max / omega_min of its fictitious masses is 1.60e4 at the equilibrium,
+    the stiff fibres against the bending, contact or not, and the Gershgorin masses alone stall
+    on the progress watch: docs/theory.md §6.4a; the default goes on with the factored masses
+    there, tests/test_relaxation_factored.py): every node within 2e-3 mm of Static's equilibrium
+    on the same mesh (measured 6.2e-4: the relaxation stops at 1e-4 of the forces) and the tip
+    within 0.3 mm of the heavy elastica (validation/references/elastica.py, as
     tests/test_case_files.py; 0.10 mm at 20 cells), in at most 80 000 iterations (64 863
-    measured, 17 s). The masses made where the nodes by the clamp did not touch, without
-    their springs, stalled it: its smallest residual ratio 0.23 after 40 000 iterations."""
+    measured, 17 s). The masses made where the nodes by the clamp did not touch, without their
+    springs, stalled it: its smallest residual ratio 0.23 after 40 000 iterations."""
     from validation.references.elastica import heavy_strip_over_cylinder
 
     path = ROOT / "cases" / "strip_over_cylinder.toml"
