@@ -372,6 +372,17 @@ class CompiledModel(CompiledTangent):
             energy += interaction.strain_energy(state, history)
         return force, moment, float(energy)
 
+    def support_moments(self, state: State) -> np.ndarray:
+        """The moments (n, 3), N mm, the supports exert on the element blocks through no DOF
+        (``ElementBlock.support_moments``: the fibrous shell's clamp wall), summed; zeros
+        where no block has any."""
+        total = np.zeros((self.n_nodes, 3))
+        for block, history in zip(self.blocks, self._histories(state)):
+            moment = block.support_moments(state, history)
+            if moment is not None:
+                total += moment
+        return total
+
     def _moment_or_zeros(self, moment: np.ndarray | None) -> np.ndarray:
         return np.zeros((self.n_nodes, 3)) if moment is None else np.asarray(moment, dtype=float)
 

@@ -395,6 +395,14 @@ class FibrousShellBlock(ElementBlock):
         force = force + bending.forces(block, state.positions, geo)
         return self.scatter.vectors(force), self.scatter.vectors(moment)
 
+    def support_moments(self, state: State, history=None):
+        """The clamp walls' moments on the nodes of their sides (n, 3), N mm (supports.py
+        ``wall_moments``, docs/theory.md §4.5); None without a clamped side."""
+        if not self.clamped_side.any():
+            return None
+        block = branch_view(self, history)
+        return self.scatter.vectors(supports.wall_moments(block, state.positions))
+
     def internal_force_and_energy(self, state: State, history=None):
         """``internal_force`` and ``strain_energy`` at ``state`` in one call: (force (n, 3) N,
         moment (n, 3) N mm, energy N mm). The compiled loops meet the energy on their way to

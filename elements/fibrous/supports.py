@@ -30,6 +30,7 @@ __all__ = [
     "requested_clamp",
     "set_sides",
     "shared_sides",
+    "wall_moments",
 ]
 
 
@@ -192,3 +193,29 @@ def apply_supports(
     reference = bending.geometry(block, points)
     block.reference_fold = reference["fold"]
     block.reference_coefficients = reference["coefficients"]
+
+
+def wall_moments(block: FibrousShellBlock, positions: np.ndarray) -> np.ndarray:
+    """The moment the clamp's walls exert on the block (docs/theory.md §4.5, "The wall's
+    moment"), (m, 3, 3) per cell corner, N mm: on each clamped side s of a cell, running
+    from p to q along the unit t_s, the wall carries -mu_s t_s, mu_s = -A0 sum_a M_a c_as
+    the side's moment, half at p and half at q. The cell's share mu_s D[s, k] n of the
+    bending forces has the moment mu_s t_s about any point, which no force of the model
+    balances: the wall's reaction does. A symmetry plane's sides (whose wall follows the
+    side) carry none. ``positions`` (n, 3) mm; ``block`` the block as its loops read it
+    (fold_branch.py ``branch_view`` for the folds' turns)."""
+    out = np.zeros((len(block.connectivity), 3, 3))
+    wall = block.clamped_side & ~np.any(block.mirror_normal != 0.0, axis=-1)
+    if not wall.any():
+        return out
+    bend = bending.geometry(block, positions)
+    chi, coefficients = bending.curvatures(block, bend)
+    mu = bending.side_moments(block, bending.moments(block, chi), coefficients)
+    x = positions[block.connectivity]
+    side = x[:, SIDE_TO] - x[:, SIDE_FROM]  # (m, 3 sides, 3)
+    t = side / np.linalg.norm(side, axis=-1, keepdims=True)
+    half = np.where(wall, -0.5 * mu, 0.0)[..., None] * t  # (m, 3 sides, 3)
+    cells = np.arange(len(out))[:, None]
+    np.add.at(out, (cells, SIDE_FROM[None, :]), half)
+    np.add.at(out, (cells, SIDE_TO[None, :]), half)
+    return out
