@@ -21,6 +21,7 @@ from femcore.compiled_checks import (
     bound_interaction,
     check_block,
     median_edge,
+    supported_block,
     used_nodes,
 )
 from femcore.compiled_loads import (
@@ -165,10 +166,10 @@ class CompiledModel(CompiledTangent):
         ]
         for entry, block in zip(model.blocks, self.blocks):
             check_block(entry.element, block, active)
-        for entry, block in zip(model.blocks, self.blocks):
+        for index, (entry, block) in enumerate(zip(model.blocks, self.blocks)):
             # The nodes where every DOF of the block is fixed or prescribed (femcore.element).
             constrained = self.dofs.constrained[:, dof_columns(entry.element.dofs)]
-            block.apply_supports(constrained.all(axis=1), constrained)
+            supported_block(entry.element, block, constrained, index)
 
         body = Body(
             mesh,
