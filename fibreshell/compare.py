@@ -422,7 +422,8 @@ def stopped_text(name: str, record: dict[str, Any]) -> str | None:
 def _differences(records: dict[str, dict[str, Any]]) -> dict[str, Any]:
     """Per kinematics other than fibrous, per path (``records``: kinematics -> its entry of
     comparison.json, ``kinematics_record``): the largest |difference| from the fibrous shell
-    of the mid-surface height (mm, at the fibrous nodes' horizontal positions), of the
+    of the mid-surface height (mm, at the fibrous nodes' horizontal positions that both
+    profiles reach: the other's height is interpolated, never held past its end), of the
     director angle (deg) and of the thickness along the director (mm), node by node. Where
     either run stopped, no numbers: {"stopped": "... stopped at load factor x", "paths": {}}
     (a stopped run's state compared with a finished one's read as a result; two stopped ones
@@ -443,13 +444,14 @@ def _differences(records: dict[str, dict[str, Any]]) -> dict[str, Any]:
         for path, line in records[name]["paths"].items():
             base = records["fibrous"]["paths"][path]
             order = np.argsort(line["horizontal"])
-            z = np.interp(
-                base["horizontal"],
-                np.asarray(line["horizontal"])[order],
-                np.asarray(line["z"])[order],
-            )
+            horizontal = np.asarray(line["horizontal"])[order]
+            # Only where both profiles reach: past the end of the shorter one np.interp would
+            # hold its last height (a strip that sags more ends nearer its clamp).
+            at = np.asarray(base["horizontal"], dtype=float)
+            common = (at >= horizontal[0]) & (at <= horizontal[-1])
+            z = np.interp(at[common], horizontal, np.asarray(line["z"])[order])
             out[name]["paths"][path] = {
-                "z_max_mm": float(np.max(np.abs(z - base["z"]))),
+                "z_max_mm": float(np.max(np.abs(z - np.asarray(base["z"])[common]))),
                 "director_angle_max_deg": float(
                     np.max(
                         np.abs(np.asarray(line["director_angle_deg"]) - base["director_angle_deg"])

@@ -395,3 +395,27 @@ def test_the_tilt_from_the_normal_is_left_out_at_the_clamped_node(small_comparis
     runs = compare_case(case, tmp_path / "plies", progress=False, kinematics=["plies"], plies=2)
     tilt = np.asarray(runs["plies"].profiles["edge"]["director_tilt_deg"])
     assert np.isnan(tilt[0]) and np.isfinite(tilt[1:]).all()
+
+
+def test_heights_are_compared_only_where_both_profiles_reach():
+    from fibreshell.compare import _differences
+
+    # The same straight profile z = -0.01 h, one reaching h = 100 mm, the other (sagging
+    # more, so ending nearer its clamp) h = 90: they agree wherever both are, so the largest
+    # height difference is 0 (np.interp held the shorter one's -0.9 mm at h = 100: 0.1 mm).
+    def path(reach: float) -> dict:
+        h = np.linspace(0.0, reach, 11)
+        ones = np.ones_like(h)
+        return {
+            "horizontal": h,
+            "z": -0.01 * h,
+            "director_angle_deg": 0.0 * ones,
+            "thickness": ones,
+        }
+
+    records = {
+        "fibrous": {"stopped": None, "paths": {"centre": path(100.0)}},
+        "mindlin": {"stopped": None, "paths": {"centre": path(90.0)}},
+    }
+    got = _differences(records)["mindlin"]["paths"]["centre"]
+    assert got["z_max_mm"] == pytest.approx(0.0, abs=1e-12)
