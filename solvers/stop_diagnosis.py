@@ -147,17 +147,16 @@ FRICTION_AT_START = (
 )
 
 
-def neutral_hint(factor, regularised: int = 0) -> str:
+def neutral_hint(factor) -> str:
     """The cause of a stop whose last tangent ``factor`` (solvers.linear.Factorisation, or
-    None) had negative pivots within round-off of zero (``neutral``, solvers.neutral_modes),
-    or whose run met an exactly singular tangent (``regularised``, the count of its
-    regularised Newton updates): zero-stiffness modes, a mechanism the load does not drive,
-    along which a Newton step is the residual's round-off over the eigenvalue's; "" without
-    either. Named with its commonest cause and remedies: a fibrous fabric whose shear law has
-    no stiffness at zero shear (K = 0) leaves the flat sheet's in-plane shear (trellising)
-    and its directors' tilt free."""
+    None) had negative pivots within round-off of zero (``neutral``, solvers.neutral_modes):
+    zero-stiffness modes, a mechanism the load does not drive, along which a Newton step is
+    the residual's round-off over the eigenvalue's; "" without them. Named with its
+    commonest cause and remedies: a fibrous fabric whose shear law has no stiffness at zero
+    shear (K = 0) leaves the flat sheet's in-plane shear (trellising) and its directors'
+    tilt free."""
     count = 0 if factor is None else int(getattr(factor, "neutral", 0) or 0)
-    if not (count or regularised):
+    if not count:
         return ""
     return (
         "; the tangent has zero-stiffness modes (eigenvalues within its round-off of zero): "
