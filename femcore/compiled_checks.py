@@ -55,7 +55,7 @@ def supported_block(
     (``model.blocks[index]``), an ``OptionError`` its option as the key
     (``options.<option>``) with the message in a case file's terms."""
     try:
-        block.apply_supports(constrained.all(axis=1), constrained)
+        block.apply_supports(np.asarray(constrained.all(axis=1)), constrained)
     except EntryError:
         raise
     except OptionError as error:

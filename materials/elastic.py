@@ -160,8 +160,8 @@ class ElasticShell:
             raise ValueError(f"ElasticShell warp must be a non-zero 3-vector, got {warp!r}")
         self = cls.__new__(cls)
         larger = ("E1", E1) if E1 >= E2 else ("E2", E2)  # the modulus the user wrote
-        warp = axis / np.linalg.norm(axis)
-        self._set(thickness, density, q, G13, G23, shear_factor, warp, nu12, larger)
+        unit = axis / np.linalg.norm(axis)
+        self._set(thickness, density, q, G13, G23, shear_factor, unit, nu12, larger)
         return self
 
     @classmethod
