@@ -21,6 +21,7 @@ from femcore.compiled_checks import (
     bound_interaction,
     check_block,
     median_edge,
+    supported_block,
     used_nodes,
 )
 from femcore.compiled_loads import (
@@ -165,10 +166,10 @@ class CompiledModel(CompiledTangent):
         ]
         for entry, block in zip(model.blocks, self.blocks):
             check_block(entry.element, block, active)
-        for entry, block in zip(model.blocks, self.blocks):
+        for index, (entry, block) in enumerate(zip(model.blocks, self.blocks)):
             # The nodes where every DOF of the block is fixed or prescribed (femcore.element).
             constrained = self.dofs.constrained[:, dof_columns(entry.element.dofs)]
-            block.apply_supports(constrained.all(axis=1), constrained)
+            supported_block(entry.element, block, constrained, index)
 
         body = Body(
             mesh,
@@ -371,6 +372,17 @@ class CompiledModel(CompiledTangent):
             interaction.add_internal_force(state, history, force, moment)
             energy += interaction.strain_energy(state, history)
         return force, moment, float(energy)
+
+    def support_moments(self, state: State) -> np.ndarray:
+        """The moments (n, 3), N mm, the supports exert on the element blocks through no DOF
+        (``ElementBlock.support_moments``: the fibrous shell's clamp wall), summed; zeros
+        where no block has any."""
+        total = np.zeros((self.n_nodes, 3))
+        for block, history in zip(self.blocks, self._histories(state)):
+            moment = block.support_moments(state, history)
+            if moment is not None:
+                total += moment
+        return total
 
     def _moment_or_zeros(self, moment: np.ndarray | None) -> np.ndarray:
         return np.zeros((self.n_nodes, 3)) if moment is None else np.asarray(moment, dtype=float)

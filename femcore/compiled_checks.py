@@ -14,7 +14,7 @@ import numpy as np
 
 from femcore.dofs import dof_columns, dof_names
 from femcore.element import ElementBlock, ElementType
-from femcore.entry_error import EntryError, EntryWarning
+from femcore.entry_error import EntryError, EntryWarning, OptionError
 from femcore.interaction import OPENING_LAWS, Body, Interaction, InteractionBlock, is_friction
 from femcore.mesh import Mesh
 
@@ -24,6 +24,7 @@ __all__ = [
     "bound_interaction",
     "check_block",
     "check_bound",
+    "supported_block",
     "median_edge",
     "used_nodes",
 ]
@@ -41,6 +42,26 @@ def bound_block(
         return element.bind(mesh, cells, directors)
     except EntryError:
         raise
+    except ValueError as error:
+        where = f"block {index} ({type(element).__name__}): "
+        raise EntryError("block", index, str(error), where) from None
+
+
+def supported_block(
+    element: ElementType, block: ElementBlock, constrained: np.ndarray, index: int
+) -> None:
+    """``block.apply_supports(held, constrained)`` with ``held`` the nodes where every DOF
+    of ``constrained`` (n, dofs) bool is; its ValueErrors name the block
+    (``model.blocks[index]``), an ``OptionError`` its option as the key
+    (``options.<option>``) with the message in a case file's terms."""
+    try:
+        block.apply_supports(np.asarray(constrained.all(axis=1)), constrained)
+    except EntryError:
+        raise
+    except OptionError as error:
+        where = f"block {index} ({type(element).__name__}): "
+        key = f"options.{error.option}"
+        raise EntryError("block", index, str(error), where, key, error.case_reason) from None
     except ValueError as error:
         where = f"block {index} ({type(element).__name__}): "
         raise EntryError("block", index, str(error), where) from None

@@ -311,6 +311,13 @@ class ElementBlock(ReadOnlyState, ABC):
         """
         return None
 
+    def support_moments(self, state: State, history: Any = None) -> np.ndarray | None:
+        """Moments (n, 3), N mm, that the supports exert on the block through no DOF: a wall
+        its energy bends against (the fibrous shell's clamp, docs/theory.md §4.5), which the
+        DOFs' reactions do not see. The solvers add them to the frames' reaction moments.
+        The default, None: every support moment of the block acts on a DOF."""
+        return None
+
     def initial_history(self) -> Any:
         """History variables of the block in the reference state (None: it has none)."""
         return None

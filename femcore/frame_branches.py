@@ -334,13 +334,27 @@ def warn_named_planes(
             continue
         bad = nodes[astray]
         name, letter = ("alpha" if column == 3 else "beta"), "xyz"[axis]
+        other = "beta" if column == 3 else "alpha"
+        # The other DOF turns every such director out of the plane: the named one turns it
+        # within the plane, the wrong rotation held (not a director lying a little off it).
+        swapped = np.abs((v2 if column == 3 else v1)[astray, axis]) >= least
+        if swapped.all():
+            why = (
+                f"{name} turns their directors within the plane, so the turn out of it is "
+                f"free: the wrong rotation is held ({other} turns them out of it). Hold "
+                f"u{letter} and {other}, or declare the plane"
+            )
+        else:
+            why = (
+                "their directors (their own side's facets' average) lie a little off the "
+                "plane, and the nodal frame turns with that (docs/theory.md §1.2). Declare "
+                "the plane instead"
+            )
         warnings.warn(
             f"fix {index} holds u{letter} and {name} on the plane {letter} = const, as a "
             f"symmetry plane, but at nodes {bad[:10].tolist()}{' ...' if bad.size > 10 else ''} "
             f"{name} turns the director more than {NAMED_PLANE_DEG:g} deg from the turn out "
-            "of the plane: their directors (their own side's facets' average) lie a little "
-            "off the plane, and the nodal frame turns with that (docs/theory.md §1.2). "
-            f"Declare the plane instead: model.fix(nodes, ['u{letter}'], tilt='{letter}') "
+            f"of the plane: {why}: model.fix(nodes, ['u{letter}'], tilt='{letter}') "
             "lays the directors into it and holds the turn out of it at every node",
             UserWarning,
             stacklevel=4,

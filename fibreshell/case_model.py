@@ -69,7 +69,8 @@ class LocatedModel:
                 places = self.places[error.kind]
                 if error.index >= len(places):  # added outside ``at``: nothing to name
                     raise
-                raise places[error.index].error(None, error.reason) from None
+                reason = error.reason if error.case_reason is None else error.case_reason
+                raise places[error.index].error(error.key, reason) from None
             except MeshTopologyError as error:
                 if self.mesh_at is None:
                     raise

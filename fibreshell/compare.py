@@ -422,7 +422,8 @@ def stopped_text(name: str, record: dict[str, Any]) -> str | None:
 def _differences(records: dict[str, dict[str, Any]]) -> dict[str, Any]:
     """Per kinematics other than fibrous, per path (``records``: kinematics -> its entry of
     comparison.json, ``kinematics_record``): the largest |difference| from the fibrous shell
-    of the mid-surface height (mm, at the fibrous nodes' horizontal positions), of the
+    of the mid-surface height (mm, of the same material points: at the fibrous nodes'
+    reference arc length s, over the s both paths cover, never held past an end), of the
     director angle (deg) and of the thickness along the director (mm), node by node. Where
     either run stopped, no numbers: {"stopped": "... stopped at load factor x", "paths": {}}
     (a stopped run's state compared with a finished one's read as a result; two stopped ones
@@ -442,14 +443,18 @@ def _differences(records: dict[str, dict[str, Any]]) -> dict[str, Any]:
             continue
         for path, line in records[name]["paths"].items():
             base = records["fibrous"]["paths"][path]
-            order = np.argsort(line["horizontal"])
-            z = np.interp(
-                base["horizontal"],
-                np.asarray(line["horizontal"])[order],
-                np.asarray(line["z"])[order],
-            )
+            # The heights of the same material points: at the fibrous nodes' reference arc
+            # length s, over the s both paths cover. At the same horizontal position the
+            # shorter reach of the profile that sags more was held at its last height past
+            # its end (np.interp), and a steep profile's chords between nodes read its
+            # curvature (0.3 mm and 0.8 mm on the G1151 strip, 0.61 at the same s).
+            order = np.argsort(line["s"])
+            along = np.asarray(line["s"], dtype=float)[order]
+            at = np.asarray(base["s"], dtype=float)
+            common = (at >= along[0] - 1e-9 * along[-1]) & (at <= along[-1] * (1 + 1e-9))
+            z = np.interp(at[common], along, np.asarray(line["z"])[order])
             out[name]["paths"][path] = {
-                "z_max_mm": float(np.max(np.abs(z - base["z"]))),
+                "z_max_mm": float(np.max(np.abs(z - np.asarray(base["z"])[common]))),
                 "director_angle_max_deg": float(
                     np.max(
                         np.abs(np.asarray(line["director_angle_deg"]) - base["director_angle_deg"])

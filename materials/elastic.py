@@ -89,6 +89,7 @@ class ElasticShell:
             shear_factor,
             None,
             nu,
+            ("E", E),
         )
 
     @classmethod
@@ -158,7 +159,9 @@ class ElasticShell:
         if axis.shape != (3,) or not np.isfinite(axis).all() or np.linalg.norm(axis) == 0:
             raise ValueError(f"ElasticShell warp must be a non-zero 3-vector, got {warp!r}")
         self = cls.__new__(cls)
-        self._set(thickness, density, q, G13, G23, shear_factor, axis / np.linalg.norm(axis), nu12)
+        larger = ("E1", E1) if E1 >= E2 else ("E2", E2)  # the modulus the user wrote
+        unit = axis / np.linalg.norm(axis)
+        self._set(thickness, density, q, G13, G23, shear_factor, unit, nu12, larger)
         return self
 
     @classmethod
@@ -245,7 +248,11 @@ class ElasticShell:
         kappa: Any,
         warp: np.ndarray | None,
         nu: float,
+        modulus: tuple[str, float],
     ) -> None:
+        """Set the section's fields; ``modulus`` (name, value) the largest Young's modulus as
+        the user gave it (E, E1 or E2, MPa), judged for its units (not an entry of q, E / (1
+        - nu^2), which the user never wrote)."""
         set_ = object.__setattr__
         set_(self, "thickness", check_positive(thickness, "ElasticShell thickness", "mm"))
         set_(self, "density", check_positive(density, "ElasticShell density", "t/mm^3"))
@@ -259,7 +266,7 @@ class ElasticShell:
         # up. Up to 1e-6 t/mm^3 (1e6 kg/m^3): any density in kg/m^3 (1 to 2e4) is caught
         # beside lengths in mm. Up to 0.5 m thick in m.
         warn_implausible(
-            Plausible("ElasticShell modulus", float(np.max(np.diag(q))), ("MPa", 1e-3, 1e9),
+            Plausible(f"ElasticShell modulus {modulus[0]}", modulus[1], ("MPa", 1e-3, 1e9),
                       ("Pa", 1e5, 1e15), "a modulus in Pa is 1e6 of it in MPa"),
             Plausible("ElasticShell density", self.density, ("t/mm^3", 1e-14, 1e-6),
                       ("kg/m^3", 1e-2, 1e6), "a density in kg/m^3 is 1e-12 of it in t/mm^3"),

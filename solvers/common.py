@@ -181,13 +181,19 @@ def make_frame(
     reaction_moments: np.ndarray | None = None,
     balanced: State | None = None,
 ) -> Frame:
-    """Snapshot of a state (arrays copied) with reactions and the elements' output fields.
+    """Snapshot of a state (arrays copied) with reactions and the elements' output fields;
+    the reaction moments given gain the supports' moments on no DOF
+    (``CompiledModel.support_moments``).
     ``balanced``: the state whose forces the solver balanced, where the tools' forces are
     taken (Static: the converged state before the commit updated its history; ``state``
     itself when None)."""
     n = model.n_nodes
     balanced = state if balanced is None else balanced
     warn_changed_meaning(model, state)
+    if reaction_moments is not None:
+        # The supports' moments on no DOF (a fibrous clamp's wall, docs/theory.md §4.5)
+        # belong to the reactions as much as those on the fixed rotations.
+        reaction_moments = reaction_moments + model.support_moments(balanced)
     return Frame(
         time=float(state.time),
         load_factor=float(state.load_factor),

@@ -43,7 +43,7 @@ from solvers.newton_levels import LevelStrains
 from solvers.output import FrameStream
 from solvers.round_off import rounding_stop
 from solvers.stabilisation import Dashpots
-from solvers.stop_diagnosis import stop_hint
+from solvers.stop_diagnosis import neutral_hint, stop_hint
 from solvers.tool_penetration import record_tool_penetration
 
 if TYPE_CHECKING:
@@ -549,10 +549,13 @@ class StaticRun:
         ``stop_hint``'s."""
         hint = ""
         if aim is not None and not self.model.interactions and self.dashpots is None:
+            # Judged at the load the user applied (load factor 1), not at the cut increment's
+            # (1e-4 N a node cut 8 times is 3.9e-7 N: a stop for another cause, the rounding
+            # of the cuts' loads, read as the user's load being too small).
             frames = self.model.dofs.frames(self.balanced.directors)
-            hint = rounding_stop(self.equilibrium(aim), self.balanced, frames)
+            hint = rounding_stop(self.equilibrium(max(aim, 1.0)), self.balanced, frames)
         if not hint:
-            hint = stop_hint(
+            hint = neutral_hint(self.last_factorisation) or stop_hint(
                 self.model,
                 self.state.positions,
                 self.solver.path,

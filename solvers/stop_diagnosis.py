@@ -32,6 +32,7 @@ __all__ = [
     "describe_cycles",
     "held_by_friction_alone",
     "iterations_spent",
+    "neutral_hint",
     "stop_hint",
 ]
 
@@ -144,6 +145,27 @@ FRICTION_AT_START = (
     "first, then pull it (the pressing loads at amplitude 'step' and "
     "Static(step_loads_first=True))"
 )
+
+
+def neutral_hint(factor) -> str:
+    """The cause of a stop whose last tangent ``factor`` (solvers.linear.Factorisation, or
+    None) had negative pivots within round-off of zero (``neutral``, solvers.neutral_modes):
+    zero-stiffness modes, a mechanism the load does not drive, along which a Newton step is
+    the residual's round-off over the eigenvalue's; "" without them. Named with its
+    commonest cause and remedies: a fibrous fabric whose shear law has no stiffness at zero
+    shear (K = 0) leaves the flat sheet's in-plane shear (trellising) and its directors'
+    tilt free."""
+    count = 0 if factor is None else int(getattr(factor, "neutral", 0) or 0)
+    if not count:
+        return ""
+    return (
+        "; the tangent has zero-stiffness modes (eigenvalues within its round-off of zero): "
+        "a mechanism the load does not drive, along which "
+        "each Newton step divides round-off by round-off (a fibrous fabric with shear K = 0 "
+        "has no in-plane shear or director tilt stiffness in its flat state). Give the "
+        "mechanism a small stiffness (a shear K small beside the other terms), hold it with "
+        "supports, or solve with DynamicRelaxation, which needs no tangent"
+    )
 
 
 def stop_hint(

@@ -80,6 +80,11 @@ def test_values_in_the_wrong_units_draw_a_warning():
         Fabric(thickness=0.3, areal_density=0.285, tension=1200.0, shear=0.2, bending=0.1)
     with pytest.warns(UserWarning, match="modulus in Pa"):
         ElasticShell(E=70e9, nu=0.3, thickness=1.0, density=2.7e-9)
+    # The modulus as the user gave it, not E / (1 - nu^2) = 7.69231e10 of the plane stress.
+    with pytest.warns(UserWarning, match=r"ElasticShell modulus E = 7e\+10 MPa is outside"):
+        ElasticShell(E=70e9, nu=0.3, thickness=1.0, density=2.7e-9)
+    with pytest.warns(UserWarning, match=r"ElasticShell modulus E1 = 1\.4e\+11 MPa is outside"):
+        ElasticShell.orthotropic(1.4e11, 1e10, 0.3, 5e9, 5e9, 5e9, thickness=1.0, density=1.5e-9)
     with pytest.warns(UserWarning, match="density in kg/m"):
         ElasticShell(E=70e3, nu=0.3, thickness=1.0, density=2700.0)
     with warnings.catch_warnings():

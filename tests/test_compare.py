@@ -395,3 +395,31 @@ def test_the_tilt_from_the_normal_is_left_out_at_the_clamped_node(small_comparis
     runs = compare_case(case, tmp_path / "plies", progress=False, kinematics=["plies"], plies=2)
     tilt = np.asarray(runs["plies"].profiles["edge"]["director_tilt_deg"])
     assert np.isnan(tilt[0]) and np.isfinite(tilt[1:]).all()
+
+
+def test_heights_are_compared_at_the_same_material_points():
+    from fibreshell.compare import _differences
+
+    # Two straight profiles from the clamp over the same reference arc length s = 0..100 mm,
+    # 30 and 40 deg below the horizontal: the same material point s stands s (sin 40 - sin
+    # 30) apart in height, 14.28 mm at the tip. At the same horizontal position, the 30 deg
+    # profile's tip (86.6 mm out) lies past the 40 deg one's (76.6 mm), whose last height
+    # np.interp held there; inside, h (tan 40 - tan 30) read 19.28 mm at these nodes.
+    def path(degrees: float) -> dict:
+        s = np.linspace(0.0, 100.0, 11)
+        angle = np.radians(degrees)
+        return {
+            "s": s,
+            "horizontal": s * np.cos(angle),
+            "z": -s * np.sin(angle),
+            "director_angle_deg": 0.0 * s,
+            "thickness": 1.0 + 0.0 * s,
+        }
+
+    records = {
+        "fibrous": {"stopped": None, "paths": {"centre": path(30.0)}},
+        "mindlin": {"stopped": None, "paths": {"centre": path(40.0)}},
+    }
+    got = _differences(records)["mindlin"]["paths"]["centre"]
+    expected = 100.0 * (np.sin(np.radians(40.0)) - np.sin(np.radians(30.0)))
+    assert got["z_max_mm"] == pytest.approx(expected, rel=1e-12)

@@ -222,3 +222,67 @@ def test_a_clamped_edge_the_supports_do_not_hold_is_refused():
     nowhere.fix([0, 2])
     with pytest.raises(ValueError, match="no edge of the block"):
         nowhere.compile()
+
+
+# ------------------------------------------------------------------ the clamped option's sets
+def test_a_list_of_set_names_clamps_each_as_symmetric_takes_one():
+    mesh = Mesh.rectangle(STRIP, WIDTH, nx=CELLS, ny=2)
+    sags = []
+    for clamped in (["left", "right"], None):
+        model = Model(mesh)
+        model.add(FibrousShell(FABRIC, clamped=clamped))
+        model.fix("left")
+        model.fix("right")
+        model.gravity((0.0, 0.0, -9810.0))
+        sags.append(Static(increments=1).solve(model).displacements[:, 2].min())
+    # Fixing both ends clamps them by itself (docs/theory.md §4.5): the option adds nothing.
+    assert sags[0] < 0.0
+    assert sags[0] == pytest.approx(sags[1], rel=1e-12)
+
+
+def test_fractional_clamped_ids_are_refused_not_truncated():
+    mesh = Mesh.rectangle(STRIP, WIDTH, nx=CELLS, ny=2)
+    model = Model(mesh)
+    model.add(FibrousShell(FABRIC, clamped=[0.9, 2 * CELLS + 1.9]))
+    model.fix("left")
+    with pytest.raises(ValueError, match=r"clamped: node ids must be integers, got \[0\.9"):
+        model.compile()
+    whole = Model(mesh)
+    whole.add(FibrousShell(FABRIC, clamped=[0.0, float(CELLS + 1)]))  # whole floats: ids
+    whole.fix("left")
+    whole.compile()
+
+
+# ------------------------------------------------------------------ the option in a case file
+CASE = """title = "t"
+[mesh]
+rectangle = {{ lx = 40.0, ly = 10.0, nx = 4, ny = 1 }}
+[[part]]
+element = "fibrous"
+material = {{thickness = 0.3, areal_density = 3e-10, tension = 100.0, shear = 0.2, bending = 0.01}}
+options = {{ clamped = {clamped} }}
+{fixes}
+[gravity]
+acceleration = [0.0, 0.0, -9810.0]
+[solver]
+kind = "static"
+"""
+
+
+def test_a_case_file_clamps_a_list_of_sets(tmp_path):
+    from fibreshell.case import load_case
+
+    path = tmp_path / "both.toml"
+    fixes = '[[fix]]\nnodes = "left"\n[[fix]]\nnodes = "right"'
+    path.write_text(CASE.format(clamped='["left", "right"]', fixes=fixes))
+    load_case(path).model().compile()  # before: "invalid literal for int()" from numpy
+
+
+def test_a_case_file_clamp_without_its_fix_names_the_file_table_key_and_the_fix(tmp_path):
+    from fibreshell.case import CaseError, load_case
+
+    path = tmp_path / "loose.toml"
+    path.write_text(CASE.format(clamped='"left"', fixes=""))
+    expected = r'loose\.toml: \[part\[0\]\.options\.clamped\]: .*\[\[fix\]\] nodes = "left"'
+    with pytest.raises(CaseError, match=expected):
+        load_case(path).model().compile()

@@ -104,7 +104,31 @@ def test_a_stop_at_the_rounding_of_the_internal_forces_says_so_and_not_limit_poi
         Static(increments=1, max_cuts=1, max_iterations=10).solve(model)
     message = str(caught.value)
     assert "the load is at the rounding of the internal forces" in message
-    # the largest nodal load of the increment that failed: the cut one, to load factor 1/2
-    assert f"the largest nodal load is {0.5 * load / len(tip):.2g} N" in message
+    # the largest nodal load the user applied, not the cut increment's (load factor 1/2)
+    assert f"the largest nodal load is {load / len(tip):.2g} N" in message
     assert "apply a larger load" in message and "units" in message
     assert "limit point" not in message
+
+
+def test_a_stop_on_an_unloaded_mechanism_names_it_not_the_cut_load():
+    # A clamped fibrous strip with shear K = 0 (materials.ShearLaw: "K = 0 leaves shear
+    # free") under a tip force of 1e-4 N a node: its flat state has no in-plane shear or
+    # director tilt stiffness, modes the load does not drive, and Newton's steps along them
+    # are round-off over round-off. The stop blamed the rounding of the load after 8 cuts
+    # ("the largest nodal load is 3.9e-07 N ... apply a larger load"); it must name the
+    # mechanism, and never quote a cut increment's load as the user's.
+    from elements import FibrousShell
+    from materials import Fabric
+    from solvers import ConvergenceError
+
+    fabric = Fabric(thickness=0.3, areal_density=2.85e-10, tension=100.0, shear=0.0, bending=0.01)
+    mesh = Mesh.rectangle(40.0, 10.0, nx=4, ny=2)
+    model = Model(mesh)
+    model.add(FibrousShell(fabric, clamped="left"))
+    model.fix("left")
+    model.force("right", (0.0, 0.0, -1e-4))
+    with pytest.raises(ConvergenceError) as caught:
+        Static(increments=1).solve(model)
+    message = str(caught.value)
+    assert "zero-stiffness modes" in message and "shear K = 0" in message
+    assert "apply a larger load" not in message and "limit point" not in message

@@ -4,7 +4,7 @@ whatever way the model faces (femcore/frame_branches.py onto_symmetry_planes, do
 
 The pinched hemisphere of MacNeal and Harder (Finite Elem. Anal. Des. 1 (1985) 3: R = 10,
 h = 0.04, E = 6.825e7, nu = 0.3, an 18 deg hole at the pole, unit loads in and out at the
-equator 90 deg apart; radial displacement 0.093 under each load), one quadrant with the planes
+equator 90 deg apart), one quadrant with the planes
 x = 0 and y = 0 held by tilt. Its two loaded points are equivalent by symmetry, and the same
 quadrant turned 90 deg about z is the same model. The nodes of a plane average only their own
 side's facet normals, so their directors sat half a facet angle off the plane (2.8 deg at 16
@@ -28,7 +28,14 @@ from materials import ElasticShell
 from solvers import Static
 
 RADIUS, LOAD = 10.0, 0.01  # a hundredth of the unit load: the linear range the reference reads
-REFERENCE = 0.093  # MacNeal and Harder (1985): the radial displacement under each load
+# The radial displacement under each load of the hemisphere with the 18 deg hole, the geometry
+# run here (latitudes 0 to 72 deg). MacNeal and Harder's table normalises by 0.094, a value
+# their text says was computed for a slightly different shell, the hemisphere closed at the
+# pole; the closed hemisphere's converged value is also quoted as 0.0924. For the open one
+# 0.093 is the value peer codes take (FinEtoolsFlexStructures' open hemisphere example; the
+# Abaqus eight-node curved shell it quotes extrapolates to 0.0936), and this quadrant's:
+# 0.0908 and 0.0925 at 16 and 32 cells extrapolate at order 2 to 0.0931.
+REFERENCE = 0.093
 
 
 def quadrant(
@@ -98,7 +105,7 @@ def test_the_quadrant_turned_about_z_deflects_as_the_quadrant_unturned():
     # the two points are equivalent by symmetry but for the alternating diagonals, which
     # lie the other way under the one load than under the other: measured 1.4e-4 apart
     assert b == pytest.approx(a, rel=1e-3)
-    # 8 cells over 90 deg, each 11 deg: 8 % under MacNeal and Harder's 0.093
+    # 8 cells over 90 deg, each 11 deg: 8 % under the open hemisphere's 0.093
     assert a == pytest.approx(REFERENCE, rel=0.10)
 
 
@@ -183,3 +190,20 @@ def test_an_edge_support_named_by_its_dofs_is_not_taken_for_a_symmetry_plane():
         warnings.simplefilter("always")
         model.compile()
     assert not [w for w in said if "tilt=" in str(w.message)]
+
+
+def test_a_flat_plane_held_by_the_wrong_rotation_is_named_so_not_blamed_on_the_directors():
+    # A flat strip's directors are e3 exactly on the plane x = 50: beta turns them about x,
+    # within the plane, and leaves the turn out of it (alpha) free: the half sags twice the
+    # whole's. Before, the warning said the directors "lie a little off the plane".
+    mesh = Mesh.rectangle(50.0, 10.0, nx=4, ny=1)
+    model = Model(mesh)
+    model.add(MindlinShell(ElasticShell(E=70000.0, nu=0.3, thickness=1.0, density=1e-9)))
+    model.fix("left")
+    model.fix("right", ["ux", "beta"])
+    with pytest.warns(UserWarning, match="as a symmetry plane") as said:
+        model.compile()
+    message = next(str(w.message) for w in said if "as a symmetry plane" in str(w.message))
+    assert "beta turns their directors within the plane" in message
+    assert "the wrong rotation is held (alpha turns them out of it)" in message
+    assert "a little off" not in message and "tilt='x'" in message

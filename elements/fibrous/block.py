@@ -98,7 +98,8 @@ class FibrousShellBlock(ElementBlock):
     shared_sides, shared_sign : (e, 2) int32 and (e,) int8, each interior side once (its
         cell and side), for the fold angles evaluated once per side (supports.py
         ``shared_sides``).
-    requested_clamp : (n,) bool, the nodes of the ``clamped`` option.
+    requested_clamp : (n,) bool, the nodes of the ``clamped`` option; ``clamped_option`` the
+        option as given.
     wall_nodes : (n,) bool, the held nodes whose nodal normal is the wall's (the reference
         one); wall_node_ids their ids and wall_sums (len(wall_node_ids), 3) their normal sums.
     reference_sums : (n, 3), the normal sums of the reference configuration (set by
@@ -171,6 +172,7 @@ class FibrousShellBlock(ElementBlock):
         # Clamps (docs/theory.md §4.5): the requested ones now, with the model's supports added
         # by apply_supports, which also recomputes the reference folds from these points.
         self.requested_clamp = supports.requested_clamp(mesh, self.connectivity, shell.clamped)
+        self.clamped_option = shell.clamped  # as given: named in the refusal of a loose clamp
         self.reference_points = np.asarray(mesh.points, dtype=float)
         # Nodes whose normal is that of the wall they are held against (apply_supports).
         self.wall_nodes = np.zeros(mesh.n_nodes, dtype=bool)
@@ -394,6 +396,14 @@ class FibrousShellBlock(ElementBlock):
         force, moment = membrane.forces(self, geo, membrane.strains(self, geo))
         force = force + bending.forces(block, state.positions, geo)
         return self.scatter.vectors(force), self.scatter.vectors(moment)
+
+    def support_moments(self, state: State, history=None):
+        """The clamp walls' moments on the nodes of their sides (n, 3), N mm (supports.py
+        ``wall_moments``, docs/theory.md §4.5); None without a clamped side."""
+        if not self.clamped_side.any():
+            return None
+        block = branch_view(self, history)
+        return self.scatter.vectors(supports.wall_moments(block, state.positions))
 
     def internal_force_and_energy(self, state: State, history=None):
         """``internal_force`` and ``strain_energy`` at ``state`` in one call: (force (n, 3) N,

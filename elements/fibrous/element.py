@@ -70,8 +70,9 @@ class FibrousShell(ElementType):
     warp : warp direction in the reference configuration, (3,); default x. The weft is the
         in-plane perpendicular. Each triangle must have one edge along each (Eq. 9).
     fibre_angle_tolerance : degrees; how far an edge may deviate from a fibre direction.
-    clamped : node ids (or a node-set name) of clamped edges: sides of the block whose two
-        nodes are in this set bend against a rigid wall in the element's reference plane
+    clamped : node ids (or a node-set name) of clamped edges, or a list of them as
+        ``symmetric`` takes (both ends: ``["left", "right"]``): sides of the block whose two
+        nodes are in these sets bend against a rigid wall in the element's reference plane
         (docs/theory.md §4.5); on an interior line both sides do. The nodes must be held by the
         supports (translations and directors fixed with ``model.fix``, or the translations
         prescribed), else compiling the model raises ValueError. The supports clamp the

@@ -17,7 +17,8 @@ import numpy as np
 
 from elements.fibrous import bending, geometry
 from elements.fibrous.geometry import SIDE_FROM, SIDE_TO
-from elements.fibrous.symmetry import check_plane_supports
+from elements.fibrous.symmetry import check_plane_supports, node_sets
+from femcore.entry_error import OptionError
 from femcore.mesh import Mesh
 
 if TYPE_CHECKING:
@@ -30,6 +31,7 @@ __all__ = [
     "requested_clamp",
     "set_sides",
     "shared_sides",
+    "wall_moments",
 ]
 
 
@@ -58,24 +60,35 @@ def clamped_sides(
 
 def requested_clamp(mesh: Mesh, connectivity: np.ndarray, clamped) -> np.ndarray:
     """The nodes (n,) bool of the ``clamped`` option (all False without it): node ids or a
-    node-set name of ``mesh``; they must make at least one edge of the cells
-    ``connectivity`` (m, 3)."""
+    node-set name of ``mesh``, or a list of them as ``symmetric`` takes (their union; each
+    set must make an edge); they must make at least one edge of the cells
+    ``connectivity`` (m, 3). ValueError for fractional or out-of-range ids."""
     member = np.zeros(mesh.n_nodes, dtype=bool)
     if clamped is None:
         return member
-    if isinstance(clamped, str):
-        nodes = mesh.nodes(clamped)
-    else:
-        nodes = np.unique(np.asarray(clamped, dtype=np.int64).ravel())
-        if nodes.size and (nodes.min() < 0 or nodes.max() >= mesh.n_nodes):
-            raise ValueError(f"clamped: node ids must be in 0..{mesh.n_nodes - 1}")
-    member[nodes] = True
-    if not clamped_sides(connectivity, member)[1].any():
-        raise ValueError(
-            "clamped: no edge of the block has both its nodes in the given set; a clamped "
-            "edge is a line of mesh edges (the shell's boundary, or an interior line)"
-        )
+    sets = node_sets(mesh, clamped, "clamped")
+    for number, nodes in enumerate(sets):
+        one = np.zeros(mesh.n_nodes, dtype=bool)
+        one[nodes] = True
+        if not clamped_sides(connectivity, one)[1].any():
+            which = "the given set" if len(sets) == 1 else f"node set {number}"
+            raise ValueError(
+                f"clamped: no edge of the block has both its nodes in {which}; a clamped "
+                "edge is a line of mesh edges (the shell's boundary, or an interior line)"
+            )
+        member |= one
     return member
+
+
+def _fix_tables(option, loose: np.ndarray) -> str:
+    """What a case file writes to hold the ``clamped`` option's nodes: a [[fix]] table of
+    each set name it gives, else of the ``loose`` node ids."""
+    names = [option] if isinstance(option, str) else list(option) if option is not None else []
+    if names and all(isinstance(name, str) for name in names):
+        tables = " and ".join(f'[[fix]] nodes = "{name}"' for name in names)
+    else:
+        tables = f"[[fix]] nodes = {loose.tolist()}"
+    return f"a {tables}" if len(names) <= 1 else tables
 
 
 def set_sides(block: FibrousShellBlock, clamp: np.ndarray) -> None:
@@ -169,10 +182,13 @@ def apply_supports(
     on_edges[connectivity[:, SIDE_TO][requested]] = True
     loose = np.flatnonzero(on_edges & ~held)
     if loose.size:
-        raise ValueError(
-            f"clamped nodes {loose[:5].tolist()}{'...' if loose.size > 5 else ''} must "
-            "have their translations and directors fixed with model.fix (a clamped edge "
-            "is held by the supports; its bending then acts against a wall)"
+        nodes = f"clamped nodes {loose[:5].tolist()}{'...' if loose.size > 5 else ''}"
+        why = "(a clamped edge is held by the supports; its bending then acts against a wall)"
+        raise OptionError(
+            f"{nodes} must have their translations and directors fixed with model.fix {why}",
+            "clamped",
+            f"{nodes} are not held: add {_fix_tables(block.clamped_option, loose)} (no dofs "
+            f"key: the translations and the directors), or drop the option {why}",
         )
     check_plane_supports(block, held, constrained)
     set_sides(block, held | block.requested_clamp)
@@ -192,3 +208,29 @@ def apply_supports(
     reference = bending.geometry(block, points)
     block.reference_fold = reference["fold"]
     block.reference_coefficients = reference["coefficients"]
+
+
+def wall_moments(block: FibrousShellBlock, positions: np.ndarray) -> np.ndarray:
+    """The moment the clamp's walls exert on the block (docs/theory.md §4.5, "The wall's
+    moment"), (m, 3, 3) per cell corner, N mm: on each clamped side s of a cell, running
+    from p to q along the unit t_s, the wall carries -mu_s t_s, mu_s = -A0 sum_a M_a c_as
+    the side's moment, half at p and half at q. The cell's share mu_s D[s, k] n of the
+    bending forces has the moment mu_s t_s about any point, which no force of the model
+    balances: the wall's reaction does. A symmetry plane's sides (whose wall follows the
+    side) carry none. ``positions`` (n, 3) mm; ``block`` the block as its loops read it
+    (fold_branch.py ``branch_view`` for the folds' turns)."""
+    out = np.zeros((len(block.connectivity), 3, 3))
+    wall = block.clamped_side & ~np.any(block.mirror_normal != 0.0, axis=-1)
+    if not wall.any():
+        return out
+    bend = bending.geometry(block, positions)
+    chi, coefficients = bending.curvatures(block, bend)
+    mu = bending.side_moments(block, bending.moments(block, chi), coefficients)
+    x = positions[block.connectivity]
+    side = x[:, SIDE_TO] - x[:, SIDE_FROM]  # (m, 3 sides, 3)
+    t = side / np.linalg.norm(side, axis=-1, keepdims=True)
+    half = np.where(wall, -0.5 * mu, 0.0)[..., None] * t  # (m, 3 sides, 3)
+    cells = np.arange(len(out))[:, None]
+    np.add.at(out, (cells, SIDE_FROM[None, :]), half)
+    np.add.at(out, (cells, SIDE_TO[None, :]), half)
+    return out

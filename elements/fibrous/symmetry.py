@@ -58,32 +58,46 @@ LEAN = np.radians(30.0)
 AXES = ("ux", "uy", "uz")
 
 
-def _node_sets(mesh: Mesh, symmetric) -> list[np.ndarray]:
-    """The node ids of each plane of the ``symmetric`` option: one node set (a name or ids)
-    or a list of them."""
-    if symmetric is None:
+def node_sets(mesh: Mesh, given, option: str = "symmetric") -> list[np.ndarray]:
+    """The node ids of each set of a node-set option (``symmetric``, ``clamped``): one node
+    set (a set name or node ids) or a list of them. ValueError naming ``option`` for an
+    empty list, an item that is neither, fractional or out-of-range ids."""
+    if given is None:
         return []
-    several = isinstance(symmetric, (list, tuple)) and all(
-        isinstance(item, str) or np.ndim(item) >= 1 for item in symmetric
+    several = isinstance(given, (list, tuple)) and all(
+        isinstance(item, str) or np.ndim(item) >= 1 for item in given
     )
-    sets = list(symmetric) if several else [symmetric]
+    sets = list(given) if several else [given]
     if not sets:
-        raise ValueError("symmetric: give a node set (a name or node ids) or a list of them")
+        raise ValueError(f"{option}: give a node set (a name or node ids) or a list of them")
     nodes = []
     for item in sets:
         if isinstance(item, str):
             ids = mesh.nodes(item)
         else:
-            try:
-                ids = np.unique(np.asarray(item, dtype=np.int64).ravel())
-            except (TypeError, ValueError):
-                raise ValueError(
-                    f"symmetric: a node set is a name or node ids, got {item!r}"
-                ) from None
-            if ids.size and (ids.min() < 0 or ids.max() >= mesh.n_nodes):
-                raise ValueError(f"symmetric: node ids must be in 0..{mesh.n_nodes - 1}")
+            ids = _whole_ids(mesh, item, option)
         nodes.append(np.asarray(ids, dtype=np.int64))
     return nodes
+
+
+def _whole_ids(mesh: Mesh, item, option: str) -> np.ndarray:
+    """Node ids ``item`` as int64 (unique), or ValueError: not numbers, fractional (a cast
+    would truncate 0.9 to node 0 silently), or out of the mesh's range."""
+    try:
+        array = np.asarray(item, dtype=float).ravel()
+    except (TypeError, ValueError):
+        raise ValueError(f"{option}: a node set is a name or node ids, got {item!r}") from None
+    if isinstance(item, (bool, np.bool_)) or np.asarray(item).dtype == bool:
+        raise ValueError(f"{option}: a node set is a name or node ids, got {item!r}")
+    if not np.all(np.isfinite(array)) or np.any(array != np.round(array)):
+        raise ValueError(
+            f"{option}: node ids must be integers, got {item!r}: give whole node ids or a "
+            "node-set name"
+        )
+    ids = np.unique(array.astype(np.int64))
+    if ids.size and (ids.min() < 0 or ids.max() >= mesh.n_nodes):
+        raise ValueError(f"{option}: node ids must be in 0..{mesh.n_nodes - 1}")
+    return ids
 
 
 def symmetry_sides(
@@ -111,7 +125,7 @@ def symmetry_sides(
     used = points[np.unique(connectivity)]
     extent = float(np.linalg.norm(used.max(axis=0) - used.min(axis=0)))
     mirror = np.zeros(connectivity.shape + (3,))
-    for number, nodes in enumerate(_node_sets(mesh, symmetric)):
+    for number, nodes in enumerate(node_sets(mesh, symmetric)):
         member = np.zeros(mesh.n_nodes, dtype=bool)
         member[nodes] = True
         sides = member[connectivity[:, SIDE_FROM]] & member[connectivity[:, SIDE_TO]]
