@@ -107,7 +107,7 @@ def _mindlin_cells(
             m0x, m0y, m0z, m1x, m1y, m1z, m2x, m2y, m2z,
         ) = cell_loads(
             positions, directors, n0, n1, n2, c, zeta, half, reference, stiffness, tying_n,
-            with_forces,
+            with_forces, True,
         )  # fmt: skip
         energy[c] = 0.5 * stored
         if not with_forces:
@@ -177,14 +177,15 @@ def _nodal(block, loads):
     return force, moment
 
 
-def _mindlin_forces(block, positions, directors, work):
+def _mindlin_forces(block, positions, directors, work, with_energy: bool = True):
     """The nodal forces and director moments (n, 3) of the block and its cells' strain
     energies (m,), in ``work``'s arrays (the energies; a lease of femcore/workspace.py).
 
     On one thread (femcore/jit.py ``threads_for``) one pass over the cells adds each cell's
     loads to its nodes (``mindlin_nodal``); on more, the cells' pass writes them to a buffer
     (m, 3, 6) that a pass over the nodes sums (``_node_sums6``). Each node gets its corners'
-    loads in cell order from 0.0 either way: the same numbers to the last bit."""
+    loads in cell order from 0.0 either way: the same numbers to the last bit. Without
+    ``with_energy`` the one pass leaves the energies out (their array is not written)."""
     m = len(block.connectivity)
     if threads_for(m) > 1:
         loads, energy = _run_mindlin(block, positions, directors, True, work)
@@ -203,6 +204,7 @@ def _mindlin_forces(block, positions, directors, work):
         block.level_stiffness,
         block.tying_n,
         True,
+        with_energy,
         force,
         moment,
         energy,
@@ -214,7 +216,7 @@ def mindlin_loads(block, positions: np.ndarray, directors: np.ndarray):
     """Nodal internal forces and director moments (n, 3) of a MindlinShellBlock by the
     compiled kernel."""
     with workspace_of(block).lease() as work:  # the cells' arrays kept between calls
-        force, moment, _ = _mindlin_forces(block, positions, directors, work)
+        force, moment, _ = _mindlin_forces(block, positions, directors, work, False)
         return force, moment
 
 

@@ -42,7 +42,7 @@ def _director_moment(ux, uy, uz, vx, vy, vz, na, nb, nc, half, q):
 
 @inline
 def cell_loads(positions, directors, n0, n1, n2, c, zeta, half, reference, stiffness, tying_n,
-               with_forces):  # fmt: skip
+               with_forces, with_energy):  # fmt: skip
     """Cell c's strain energy and, with ``with_forces``, its corner forces and director
     moments, of corners n0, n1, n2.
 
@@ -53,9 +53,9 @@ def cell_loads(positions, directors, n0, n1, n2, c, zeta, half, reference, stiff
     7 x 7, the in-plane points and the assumed shear summed in at bind), W = 1/2 sum e . sigma,
     and the loads sigma . de/ds. Three-vectors are kept in scalars.
 
-    Returns 16 scalars: 2 W (N mm); dW/dx1 and dW/dx2 (the forces on corners 1 and 2, N; on
-    corner 0 minus their sum); the director moments of corners 0, 1, 2 (N mm). Without
-    ``with_forces`` all but the first are 0."""
+    Returns 16 scalars: 2 W (N mm; 0 without ``with_energy``, its sums left out); dW/dx1
+    and dW/dx2 (the forces on corners 1 and 2, N; on corner 0 minus their sum); the director
+    moments of corners 0, 1, 2 (N mm). Without ``with_forces`` all but the first are 0."""
     nz = zeta.shape[0]
     d1x, d1y, d1z = edge(positions, n0, n1)
     d2x, d2y, d2z = edge(positions, n0, n2)
@@ -104,7 +104,8 @@ def cell_loads(positions, directors, n0, n1, n2, c, zeta, half, reference, stiff
         s5 += k[26] * e6
         s6 = k[6] * e0 + k[12] * e1 + k[17] * e2 + k[21] * e3 + k[24] * e4 + k[26] * e5
         s6 += k[27] * e6
-        stored += e0 * s0 + e1 * s1 + e2 * s2 + e3 * s3 + e4 * s4 + e5 * s5 + e6 * s6
+        if with_energy:
+            stored += e0 * s0 + e1 * s1 + e2 * s2 + e3 * s3 + e4 * s4 + e5 * s5 + e6 * s6
         if not with_forces:
             continue
         # dW/dg1, dW/dg2 at this level; dW/dg3 at A, B, C
@@ -159,11 +160,13 @@ def cell_loads(positions, directors, n0, n1, n2, c, zeta, half, reference, stiff
 @serial
 def _mindlin_nodal(
     positions, directors, connectivity, zeta, half, reference, stiffness, tying_n, with_forces,
-    force, moment, energy,
+    with_energy, force, moment, energy,
 ):  # fmt: skip
     """``_mindlin_cells`` on one thread with its corner loads added to the nodes as each cell
     is done: ``force``, ``moment`` (n, 3), zeros on entry, get each cell's corner forces and
-    director moments in cell order; ``energy`` (m,) each cell's strain energy, N mm."""
+    director moments in cell order; with ``with_energy``, ``energy`` (m,) each cell's strain
+    energy, N mm (without, ``energy`` is not written: a step that does not check the energy
+    balance skips the sums e . sigma)."""
     for c in range(connectivity.shape[0]):
         n0, n1, n2 = connectivity[c, 0], connectivity[c, 1], connectivity[c, 2]
         (
@@ -171,9 +174,10 @@ def _mindlin_nodal(
             m0x, m0y, m0z, m1x, m1y, m1z, m2x, m2y, m2z,
         ) = cell_loads(
             positions, directors, n0, n1, n2, c, zeta, half, reference, stiffness, tying_n,
-            with_forces,
+            with_forces, with_energy,
         )  # fmt: skip
-        energy[c] = 0.5 * stored
+        if with_energy:
+            energy[c] = 0.5 * stored
         if not with_forces:
             continue
         force[n0, 0] += -(t1x + t2x)
