@@ -402,7 +402,11 @@ across chunks of 32 cells (structure of arrays, as the fibrous levels; LLVM ran 
 1.09-1.4 x the cell-by-cell pass, the stiffness (m, Z, 28) and references (m, Z, 7) copied
 into the chunk's rows, or read from a chunked copy (nchunks, Z, 28, 32) in place; without
 the tables' 560 bytes a cell the lanes took 0.052 µs a cell against 0.073 cell by cell, so
-the tables' traffic, not the arithmetic, bounds the pass.
+the tables' traffic, not the arithmetic, bounds the pass. Nor the same one-thread pass for the
+fibrous shell's pulls (each cell's corner forces, its pulls added, and moments to its nodes as
+it goes, the pull's arithmetic a helper shared with the threads' pass): the same bits, but
+the force 1.13 x and the whole step 1.13 x those of 432e668 paired in one process
+(benchmarks/kernel_pairs.py, explicit_step_pairs.py --element fibrous; load 13-18).
 
 Run from the project root:
 

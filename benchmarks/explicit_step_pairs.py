@@ -1,14 +1,15 @@
-"""The steady explicit step of the Mindlin shell with another revision's force kernels beside
-this tree's, in one process, taken in turns.
+"""The steady explicit step of a shell with another revision's force kernels beside this tree's,
+in one process, taken in turns.
 
-The revision's elements/kernels.py (``git show``) is written into a package of its own in a
+The revision's kernels module (``git show``: elements/kernels.py for the Mindlin shell,
+elements/fibrous/kernels.py for the fibrous one) is written into a package of its own in a
 temporary folder (benchmarks/revision_modules.py) and imported beside this tree's; a side's
-turn puts its ``mindlin_loads``, ``mindlin_loads_and_energy`` and ``mindlin_energy`` in
-this tree's module (what the block calls) and runs ``CentralDifference`` on the pinned sheet of
-benchmarks/explicit_step.py (aluminium, h = 1 mm, gravity from rest, 0.9 x the stable step,
-one thread) over N and 2N steps: the steady step is the difference of the two CPU times per
-added element-step (the run's start and its frames left out). Everything else in the step is
-this tree's on both sides.
+turn puts its force functions (``SHELLS``) in this tree's module (what the block calls) and
+runs ``CentralDifference`` on the pinned sheet of benchmarks/explicit_step.py (the Mindlin
+shell aluminium, h = 1 mm; the fibrous shell the G986 stack; gravity from rest, 0.9 x the
+stable step, one thread) over N and 2N steps: the steady step is the difference of the two
+CPU times per added element-step (the run's start and its frames left out). Everything else
+in the step is this tree's on both sides.
 
 Printed, a line a size: each side's best steady step over ``--rounds`` rounds (the order of
 the sides flipped every round), the median of new / old over the rounds with its quartiles,
@@ -30,6 +31,11 @@ the same positions, directors and velocities to the last bit after 200 steps; th
 pass 0.138 and 0.130 in those runs (the new step 1.05 and 1.09 times it). The second line's
 change is within the first's spread at that load; alone, the force without its energy took
 0.964 of the force with it (median of 15 rounds, load 14.7).
+
+``--element fibrous`` measured a one-thread pulls pass tried on the fibrous shell (each
+cell's corner forces and moments added to its nodes as it went; not kept): old 0.3412, new
+0.3679, new / old 1.131 (1.096-1.166) over 3 rounds, the same bits, reference pass 0.126,
+load 17-18.
 
 Run from the project root (the other revision must be a git ref of this repository):
 
@@ -53,18 +59,26 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # run from anywher
 from explicit_step import cpu_reference, run, sheet  # noqa: E402
 from revision_modules import revision_modules  # noqa: E402
 
-from elements import kernels  # noqa: E402
+#: Each shell's kernels module (its path, its name) and the functions of it its block calls
+#: (elements/mindlin.py, elements/fibrous/block.py).
+SHELLS = {
+    "mindlin": (
+        ("elements/kernels.py", "elements.kernels"),
+        ("mindlin_loads", "mindlin_loads_and_energy", "mindlin_energy"),
+    ),
+    "fibrous": (
+        ("elements/fibrous/kernels.py", "elements.fibrous.kernels"),
+        ("internal_force", "internal_force_and_energy", "strain_energy_parts"),
+    ),
+}
 
-MODULES = {"elements/kernels.py": "elements.kernels"}
-#: The kernels module's functions the Mindlin block calls (elements/mindlin.py).
-CALLED = ("mindlin_loads", "mindlin_loads_and_energy", "mindlin_energy")
 
-
-def other_kernels(ref: str, folder: Path):
-    """The kernels module of revision ``ref``, imported from a package ``other_<hash>`` written
-    into ``folder``, and the revision's short hash."""
-    package, commit = revision_modules(ref, folder, MODULES)
-    return importlib.import_module(f"{package}.kernels"), commit
+def other_kernels(ref: str, folder: Path, element: str):
+    """The kernels module of ``element`` of revision ``ref``, imported from a package
+    ``other_<hash>`` written into ``folder``, and the revision's short hash."""
+    (path, name), _ = SHELLS[element]
+    package, commit = revision_modules(ref, folder, {path: name})
+    return importlib.import_module(f"{package}.{name.rsplit('.', 1)[1]}"), commit
 
 
 def steady(compiled, steps: int) -> tuple[float, object]:
@@ -75,10 +89,12 @@ def steady(compiled, steps: int) -> tuple[float, object]:
     return (long - short) / steps, result.frames[-1]
 
 
-def pair(old, compiled, steps: int, rounds: int) -> str:
+def pair(old, compiled, element: str, steps: int, rounds: int) -> str:
     """The line of figures of the sheet ``compiled``: old and new sides in turns."""
-    own = {name: getattr(kernels, name) for name in CALLED}
-    theirs = {name: getattr(old, name) for name in CALLED}
+    (_, module), called = SHELLS[element]
+    kernels = importlib.import_module(module)
+    own = {name: getattr(kernels, name) for name in called}
+    theirs = {name: getattr(old, name) for name in called}
     m = sum(len(block.connectivity) for block in compiled.blocks)
     times: dict[str, list[float]] = {"old": [], "new": []}
     ends = {}
@@ -119,6 +135,7 @@ def pair(old, compiled, steps: int, rounds: int) -> str:
 def main(argv=None) -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--ref", default="main", help="the other revision (a git ref)")
+    parser.add_argument("--element", choices=tuple(SHELLS), default="mindlin")
     parser.add_argument("--sizes", default="100000")
     parser.add_argument("--steps", type=int, default=100)
     parser.add_argument("--rounds", type=int, default=5)
@@ -127,17 +144,18 @@ def main(argv=None) -> None:
 
     numba.set_num_threads(1)
     with tempfile.TemporaryDirectory() as folder:
-        old, commit = other_kernels(args.ref, Path(folder))
+        old, commit = other_kernels(args.ref, Path(folder), args.element)
         print(
-            f"{args.ref} ({commit}) beside this tree, Mindlin shell, one process, one thread, "
+            f"{args.ref} ({commit}) beside this tree, {args.element} shell, one process, one "
+            f"thread, "
             f"CPU time ({time.strftime('%Y-%m-%d %H:%M')})",
             flush=True,
         )
-        compiled, _, _ = sheet("mindlin", "compiled", 200)
+        compiled, _, _ = sheet(args.element, "compiled", 200)
         run(compiled, 3)  # this tree's loops compiled first
         for size in [int(s) for s in args.sizes.split(",")]:
-            compiled, _, _ = sheet("mindlin", "compiled", size)
-            print(pair(old, compiled, args.steps, args.rounds), flush=True)
+            compiled, _, _ = sheet(args.element, "compiled", size)
+            print(pair(old, compiled, args.element, args.steps, args.rounds), flush=True)
 
 
 if __name__ == "__main__":
