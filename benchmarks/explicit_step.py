@@ -383,6 +383,31 @@ before, main fdcebfd and after in turns, 100k, ``--repeats 3``, µs of CPU an el
 (steady; the step less its force): Mindlin 0.124 / 0.129 -> 0.130 / 0.128 (0.031 -> 0.032 /
 0.033), load 6.1-6.7; fibrous 0.442 -> 0.441 (0.022 -> 0.022), load 8.0-8.9.
 
+The Mindlin force on one thread in one pass that adds each cell's loads to its nodes
+(elements/mindlin_cell_loads.py; its energy sums left out on the steps that do not check the
+balance), this script on 432e668 and after, 100k, ``--repeats 3``, one thread, µs of CPU an
+element-step: Mindlin steady step 0.171 (1.4 x the reference pass, 0.119; load 4.2) -> 0.158
+(1.2 x, 0.131; load 18.5), force 0.123 -> 0.107, force+energy 0.122 -> 0.112, the step less
+its force 0.037 -> 0.036, checked step 0.162 -> 0.151. Where the step went before, CPU
+profile of 300 steps of CentralDifference at 100k (load 10-11, ms a step): the cells' pass
+10.3, the nodes' sums of its (m, 3, 6) buffer 1.95, the rotations' pass 1.7, the velocities'
+0.64, the copies of the force's and moment's (n, 3) halves of one (n, 6) array 0.2-0.5, the
+external load 0.56, the records' rotational kinetic energy 0.36; after, the one pass 10.9
+(cells and nodes), rotations 1.9, velocities 0.7 (load 13-15). Paired in one process, the
+old force kernels beside these (benchmarks/explicit_step_pairs.py, load 12-18): 0.163-0.171
+-> 0.142-0.145, median 0.854-0.875 of before, the same bits. The fibrous shell's step is not
+changed (its 300-step run the same to the bit): 0.322 (2.6 x, 0.123; load 9.4) and 0.346
+(2.2 x, 0.155; load 18.6) in the two runs. Tried and not kept: the Mindlin levels as loops
+across chunks of 32 cells (structure of arrays, as the fibrous levels; LLVM ran them 4 wide):
+1.09-1.4 x the cell-by-cell pass, the stiffness (m, Z, 28) and references (m, Z, 7) copied
+into the chunk's rows, or read from a chunked copy (nchunks, Z, 28, 32) in place; without
+the tables' 560 bytes a cell the lanes took 0.052 µs a cell against 0.073 cell by cell, so
+the tables' traffic, not the arithmetic, bounds the pass. Nor the same one-thread pass for the
+fibrous shell's pulls (each cell's corner forces, its pulls added, and moments to its nodes as
+it goes, the pull's arithmetic a helper shared with the threads' pass): the same bits, but
+the force 1.13 x and the whole step 1.13 x those of 432e668 paired in one process
+(benchmarks/kernel_pairs.py, explicit_step_pairs.py --element fibrous; load 13-18).
+
 Run from the project root:
 
     python benchmarks/explicit_step.py

@@ -7,6 +7,8 @@ The loops over cells run in parallel (numba's ``prange``, as many threads as
 ``numba.set_num_threads`` allows) into per-cell buffers; the sums to the nodes are a parallel
 loop over nodes after them (``NodeCorners``), each node adding the corners of its cells in cell
 order, so that no two threads add to the same node and the sums are those of numpy.bincount.
+On one thread the Mindlin shell's pass adds each cell's loads to its nodes as it goes, in cell
+order (elements/mindlin_cell_loads.py ``mindlin_nodal``): the same sums, no buffer.
 The fibrous shell's loops are in elements/fibrous/kernels.py; the compilation helpers
 (``jit``, ``serial``, ``prange``) in femcore/jit.py.
 """
@@ -16,7 +18,9 @@ from __future__ import annotations
 import numpy as np
 
 from elements.kernel_inputs import read_only
-from femcore.jit import AVAILABLE, inline, jit, prange, serial
+from elements.mindlin_cell_loads import cell_loads, mindlin_nodal
+from elements.mindlin_cell_loads import edge as _edge
+from femcore.jit import AVAILABLE, jit, prange, serial, threads_for
 from femcore.workspace import workspace_of
 
 __all__ = [
@@ -87,16 +91,6 @@ def _node_sums(offsets, corners, per_corner, out):
 PACKED_ROWS, PACKED_COLUMNS = np.triu_indices(7)
 
 
-@inline
-def _edge(positions, a, b):
-    """The edge x_b - x_a between nodes a and b of positions (n, 3): three scalars."""
-    return (
-        positions[b, 0] - positions[a, 0],
-        positions[b, 1] - positions[a, 1],
-        positions[b, 2] - positions[a, 2],
-    )
-
-
 @jit
 def _mindlin_cells(
     positions, directors, connectivity, zeta, half, reference, stiffness, tying_n, with_forces,
@@ -104,97 +98,17 @@ def _mindlin_cells(
 ):  # fmt: skip
     """The strain energy (m,) of each MITC3 Mindlin triangle into ``energy`` and, with
     ``with_forces``, its nodal forces and director moments into ``loads`` (m, 3, 6): forces
-    in [..., :3], moments in [..., 3:].
-
-    By level (docs/theory.md §5.5): the seven level measures e = (E11, E22, 2E12, and the
-    changes of the tying products g1.g3^A, g1.g3^C, g2.g3^B, g2.g3^C) from the products of
-    the current vectors less ``reference`` (m, Z, 7), their conjugates sigma = D^ e with the
-    level stiffness ``stiffness`` (m, Z, 28, the packed upper triangle of the symmetric
-    7 x 7, the in-plane points and the assumed shear summed in at bind), W = 1/2 sum e . sigma,
-    and the loads sigma . de/ds. Three-vectors are kept in scalars: no array is allocated
-    inside the loop."""
-    m = connectivity.shape[0]
-    nz = zeta.shape[0]
-    for c in prange(m):
+    in [..., :3], moments in [..., 3:] (elements/mindlin_cell_loads.py ``cell_loads``, each
+    cell on its own: the loop runs on the threads). No array is allocated inside the loop."""
+    for c in prange(connectivity.shape[0]):
         n0, n1, n2 = connectivity[c, 0], connectivity[c, 1], connectivity[c, 2]
-        d1x, d1y, d1z = _edge(positions, n0, n1)
-        d2x, d2y, d2z = _edge(positions, n0, n2)
-        v0x, v0y, v0z = directors[n0, 0], directors[n0, 1], directors[n0, 2]
-        v1x, v1y, v1z = directors[n1, 0], directors[n1, 1], directors[n1, 2]
-        v2x, v2y, v2z = directors[n2, 0], directors[n2, 1], directors[n2, 2]
-        w1x, w1y, w1z = half * (v1x - v0x), half * (v1y - v0y), half * (v1z - v0z)
-        w2x, w2y, w2z = half * (v2x - v0x), half * (v2y - v0y), half * (v2z - v0z)
-        # g3 at the tying points A, B, C: h/2 sum_k N_k(T) V_k
-        ax = half * (tying_n[0, 0] * v0x + tying_n[0, 1] * v1x + tying_n[0, 2] * v2x)
-        ay = half * (tying_n[0, 0] * v0y + tying_n[0, 1] * v1y + tying_n[0, 2] * v2y)
-        az = half * (tying_n[0, 0] * v0z + tying_n[0, 1] * v1z + tying_n[0, 2] * v2z)
-        bx = half * (tying_n[1, 0] * v0x + tying_n[1, 1] * v1x + tying_n[1, 2] * v2x)
-        by = half * (tying_n[1, 0] * v0y + tying_n[1, 1] * v1y + tying_n[1, 2] * v2y)
-        bz = half * (tying_n[1, 0] * v0z + tying_n[1, 1] * v1z + tying_n[1, 2] * v2z)
-        cx = half * (tying_n[2, 0] * v0x + tying_n[2, 1] * v1x + tying_n[2, 2] * v2x)
-        cy = half * (tying_n[2, 0] * v0y + tying_n[2, 1] * v1y + tying_n[2, 2] * v2y)
-        cz = half * (tying_n[2, 0] * v0z + tying_n[2, 1] * v1z + tying_n[2, 2] * v2z)
-        t1x = t1y = t1z = t2x = t2y = t2z = 0.0  # sums over z of p1, p2
-        a1x = a1y = a1z = a2x = a2y = a2z = 0.0  # sums over z of zeta p1, zeta p2
-        qax = qay = qaz = qbx = qby = qbz = qcx = qcy = qcz = 0.0  # dW/dg3 at A, B, C
-        stored = 0.0  # 2 W
-        for z in range(nz):
-            zz = zeta[z]
-            g1x, g1y, g1z = d1x + zz * w1x, d1y + zz * w1y, d1z + zz * w1z
-            g2x, g2y, g2z = d2x + zz * w2x, d2y + zz * w2y, d2z + zz * w2z
-            r = reference[c, z]
-            e0 = 0.5 * (g1x * g1x + g1y * g1y + g1z * g1z - r[0])
-            e1 = 0.5 * (g2x * g2x + g2y * g2y + g2z * g2z - r[1])
-            e2 = g1x * g2x + g1y * g2y + g1z * g2z - r[2]
-            e3 = g1x * ax + g1y * ay + g1z * az - r[3]
-            e4 = g1x * cx + g1y * cy + g1z * cz - r[4]
-            e5 = g2x * bx + g2y * by + g2z * bz - r[5]
-            e6 = g2x * cx + g2y * cy + g2z * cz - r[6]
-            k = stiffness[c, z]
-            s0 = k[0] * e0 + k[1] * e1 + k[2] * e2 + k[3] * e3 + k[4] * e4 + k[5] * e5 + k[6] * e6
-            s1 = k[1] * e0 + k[7] * e1 + k[8] * e2 + k[9] * e3 + k[10] * e4 + k[11] * e5
-            s1 += k[12] * e6
-            s2 = k[2] * e0 + k[8] * e1 + k[13] * e2 + k[14] * e3 + k[15] * e4 + k[16] * e5
-            s2 += k[17] * e6
-            s3 = k[3] * e0 + k[9] * e1 + k[14] * e2 + k[18] * e3 + k[19] * e4 + k[20] * e5
-            s3 += k[21] * e6
-            s4 = k[4] * e0 + k[10] * e1 + k[15] * e2 + k[19] * e3 + k[22] * e4 + k[23] * e5
-            s4 += k[24] * e6
-            s5 = k[5] * e0 + k[11] * e1 + k[16] * e2 + k[20] * e3 + k[23] * e4 + k[25] * e5
-            s5 += k[26] * e6
-            s6 = k[6] * e0 + k[12] * e1 + k[17] * e2 + k[21] * e3 + k[24] * e4 + k[26] * e5
-            s6 += k[27] * e6
-            stored += e0 * s0 + e1 * s1 + e2 * s2 + e3 * s3 + e4 * s4 + e5 * s5 + e6 * s6
-            if not with_forces:
-                continue
-            # dW/dg1, dW/dg2 at this level; dW/dg3 at A, B, C
-            p1x = s0 * g1x + s2 * g2x + s3 * ax + s4 * cx
-            p1y = s0 * g1y + s2 * g2y + s3 * ay + s4 * cy
-            p1z = s0 * g1z + s2 * g2z + s3 * az + s4 * cz
-            p2x = s1 * g2x + s2 * g1x + s5 * bx + s6 * cx
-            p2y = s1 * g2y + s2 * g1y + s5 * by + s6 * cy
-            p2z = s1 * g2z + s2 * g1z + s5 * bz + s6 * cz
-            t1x += p1x
-            t1y += p1y
-            t1z += p1z
-            t2x += p2x
-            t2y += p2y
-            t2z += p2z
-            a1x += zz * p1x
-            a1y += zz * p1y
-            a1z += zz * p1z
-            a2x += zz * p2x
-            a2y += zz * p2y
-            a2z += zz * p2z
-            qax += s3 * g1x
-            qay += s3 * g1y
-            qaz += s3 * g1z
-            qbx += s5 * g2x
-            qby += s5 * g2y
-            qbz += s5 * g2z
-            qcx += s4 * g1x + s6 * g2x
-            qcy += s4 * g1y + s6 * g2y
-            qcz += s4 * g1z + s6 * g2z
+        (
+            stored, t1x, t1y, t1z, t2x, t2y, t2z,
+            m0x, m0y, m0z, m1x, m1y, m1z, m2x, m2y, m2z,
+        ) = cell_loads(
+            positions, directors, n0, n1, n2, c, zeta, half, reference, stiffness, tying_n,
+            with_forces, True,
+        )  # fmt: skip
         energy[c] = 0.5 * stored
         if not with_forces:
             continue
@@ -207,31 +121,17 @@ def _mindlin_cells(
         loads[c, 2, 0] = t2x
         loads[c, 2, 1] = t2y
         loads[c, 2, 2] = t2z
-        for node_k in range(3):
-            # dW/dV_k: the in-plane levels' part, then g3^T = h/2 sum_k N_k(T) V_k
-            if node_k == 0:
-                ux, uy, uz = -half * (a1x + a2x), -half * (a1y + a2y), -half * (a1z + a2z)
-                vx, vy, vz = v0x, v0y, v0z
-            elif node_k == 1:
-                ux, uy, uz = half * a1x, half * a1y, half * a1z
-                vx, vy, vz = v1x, v1y, v1z
-            else:
-                ux, uy, uz = half * a2x, half * a2y, half * a2z
-                vx, vy, vz = v2x, v2y, v2z
-            na, nb, nc = tying_n[0, node_k], tying_n[1, node_k], tying_n[2, node_k]
-            ux += half * (na * qax + nb * qbx + nc * qcx)
-            uy += half * (na * qay + nb * qby + nc * qcy)
-            uz += half * (na * qaz + nb * qbz + nc * qcz)
-            loads[c, node_k, 3] = vy * uz - vz * uy
-            loads[c, node_k, 4] = vz * ux - vx * uz
-            loads[c, node_k, 5] = vx * uy - vy * ux
+        loads[c, 0, 3], loads[c, 0, 4], loads[c, 0, 5] = m0x, m0y, m0z
+        loads[c, 1, 3], loads[c, 1, 4], loads[c, 1, 5] = m1x, m1y, m1z
+        loads[c, 2, 3], loads[c, 2, 4], loads[c, 2, 5] = m2x, m2y, m2z
 
 
 @jit
-def _node_sums6(offsets, corners, per_corner, out):
-    """out[node] = sum of per_corner[j] (m * 3, 6) over the node's corners j: forces and
-    moments in one pass."""
-    for node in prange(out.shape[0]):
+def _node_sums6(offsets, corners, per_corner, force, moment):
+    """force[node], moment[node] = sums of per_corner[j] (m * 3, 6) over the node's corners j,
+    its columns :3 and 3: in one pass: two contiguous (n, 3) arrays, which the step's node
+    passes take as they are (the (n, 6) array's halves were views that each pass copied)."""
+    for node in prange(force.shape[0]):
         s0 = s1 = s2 = s3 = s4 = s5 = 0.0
         for j in range(offsets[node], offsets[node + 1]):
             corner = corners[j]
@@ -241,8 +141,8 @@ def _node_sums6(offsets, corners, per_corner, out):
             s3 += per_corner[corner, 3]
             s4 += per_corner[corner, 4]
             s5 += per_corner[corner, 5]
-        out[node, 0], out[node, 1], out[node, 2] = s0, s1, s2
-        out[node, 3], out[node, 4], out[node, 5] = s3, s4, s5
+        force[node, 0], force[node, 1], force[node, 2] = s0, s1, s2
+        moment[node, 0], moment[node, 1], moment[node, 2] = s3, s4, s5
 
 
 def _run_mindlin(block, positions, directors, with_forces: bool, work):
@@ -268,26 +168,63 @@ def _run_mindlin(block, positions, directors, with_forces: bool, work):
 
 
 def _nodal(block, loads):
+    """The corner loads (m, 3, 6) summed to the nodes: (force, moment), (n, 3) each,
+    C-contiguous."""
     corners = block.node_corners
-    out = np.empty((len(corners.offsets) - 1, 6))
-    _node_sums6(corners.offsets, corners.corners, loads.reshape(-1, 6), out)
-    return out[:, :3], out[:, 3:]
+    n = len(corners.offsets) - 1
+    force, moment = np.empty((n, 3)), np.empty((n, 3))
+    _node_sums6(corners.offsets, corners.corners, loads.reshape(-1, 6), force, moment)
+    return force, moment
+
+
+def _mindlin_forces(block, positions, directors, work, with_energy: bool = True):
+    """The nodal forces and director moments (n, 3) of the block and its cells' strain
+    energies (m,), in ``work``'s arrays (the energies; a lease of femcore/workspace.py).
+
+    On one thread (femcore/jit.py ``threads_for``) one pass over the cells adds each cell's
+    loads to its nodes (``mindlin_nodal``); on more, the cells' pass writes them to a buffer
+    (m, 3, 6) that a pass over the nodes sums (``_node_sums6``). Each node gets its corners'
+    loads in cell order from 0.0 either way: the same numbers to the last bit. Without
+    ``with_energy`` the one pass leaves the energies out (their array is not written)."""
+    m = len(block.connectivity)
+    if threads_for(m) > 1:
+        loads, energy = _run_mindlin(block, positions, directors, True, work)
+        force, moment = _nodal(block, loads)
+        return force, moment, energy
+    n = len(block.node_corners.offsets) - 1
+    force, moment = np.zeros((n, 3)), np.zeros((n, 3))
+    energy = work.empty("energy", (m,))
+    mindlin_nodal(
+        np.ascontiguousarray(positions, dtype=np.float64),
+        np.ascontiguousarray(directors, dtype=np.float64),
+        block.connectivity,
+        block.zeta,
+        0.5 * block.h,
+        block.reference_measures,
+        block.level_stiffness,
+        block.tying_n,
+        True,
+        with_energy,
+        force,
+        moment,
+        energy,
+    )
+    return force, moment, energy
 
 
 def mindlin_loads(block, positions: np.ndarray, directors: np.ndarray):
     """Nodal internal forces and director moments (n, 3) of a MindlinShellBlock by the
     compiled kernel."""
-    with workspace_of(block).lease() as work:  # the corner loads kept between calls
-        loads, _ = _run_mindlin(block, positions, directors, True, work)
-        return _nodal(block, loads)
+    with workspace_of(block).lease() as work:  # the cells' arrays kept between calls
+        force, moment, _ = _mindlin_forces(block, positions, directors, work, False)
+        return force, moment
 
 
 def mindlin_loads_and_energy(block, positions: np.ndarray, directors: np.ndarray):
     """Nodal internal forces and director moments (n, 3) and the strain energy (N mm) of a
     MindlinShellBlock, from one pass of the compiled kernel."""
     with workspace_of(block).lease() as work:
-        loads, energy = _run_mindlin(block, positions, directors, True, work)
-        force, moment = _nodal(block, loads)
+        force, moment, energy = _mindlin_forces(block, positions, directors, work)
         return force, moment, float(energy.sum())
 
 

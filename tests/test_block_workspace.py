@@ -122,7 +122,8 @@ def test_a_pickled_or_deep_copied_workspace_is_empty_and_a_shallow_copy_of_its_o
 def test_two_blocks_in_turns_each_give_the_bits_of_arrays_made_afresh(kind):
     """Two models of different sizes, their loads asked in turns at two states each: each
     the same to the bit as with fresh arrays, the workspace kept (it holds the cell pass's
-    arrays after a call)."""
+    arrays after a call: the fibrous (m, 3, 3) corner loads; the Mindlin cells' energies, its
+    one-thread pass adding its loads to the nodes without a buffer, elements/kernels.py)."""
     models = [_model(kind, 6), _model(kind, 9)]
     states = [[_jittered(c, seed) for seed in (1, 2)] for c in models]
     expected = [[_fresh_loads(c.blocks[0], s) for s in pair] for c, pair in zip(models, states)]
@@ -133,7 +134,7 @@ def test_two_blocks_in_turns_each_give_the_bits_of_arrays_made_afresh(kind):
                 np.testing.assert_array_equal(got, expected[i][j])
     for compiled in models:
         cells = len(compiled.blocks[0].connectivity)
-        assert compiled.blocks[0]._workspace.nbytes >= 8 * 9 * cells
+        assert compiled.blocks[0]._workspace.nbytes >= 8 * (9 if kind == "fibrous" else 1) * cells
 
 
 @pytest.mark.parametrize("kind", KINDS)
