@@ -9,15 +9,18 @@ and asks for the same tangent: the 2560-triangle Mindlin cantilever of
 benchmarks/kratos_cantilever.py assembled 28 tangents and made 33 factorisations in its 5
 increments, 4 of each twice over.
 
-The tangent (K_ff, K_fp) is a function of the positions, the directors, the nodal frames it is
-written in, the blocks' history and, through the tools a load factor places, of the load
-factor where the model has interactions; a viscous stabilisation adds its increment's
-dashpots. The kept one is given back only where all of these are the same: the arrays
-compared by value (a State's arrays may be changed in place), the history entry by entry by
-identity (entries are never mutated, femcore.state.State; a block whose history a commit
-renews, the fibrous shell's folds, is never given a kept tangent), and never with dashpots.
-A compression-free tangent (solvers.newton, ``Tangent``) is not the state's own and is
-neither kept nor given.
+The tangent (K_ff, K_fp) of the element blocks is a function of the positions, the directors,
+the nodal frames it is written in and the blocks' history; a viscous stabilisation adds its
+increment's dashpots. The kept one is given back only where all of these are the same: the
+arrays compared by value (a State's arrays may be changed in place), the history entry by
+entry by identity (entries are never mutated, femcore.state.State; a block whose history a
+commit renews, the fibrous shell's folds, is never given a kept tangent), and never with
+dashpots. A model with interactions keeps nothing: their tangent depends on more than the
+state (the tools a load factor places, and penalties that the load path changes in place
+between attempts: the soft start of solvers/penalty_start.py gave the ply deck of
+tests/test_static_penalty_start.py its softened tangent again at full penalty, and it stopped
+at load factor 0.98). A compression-free tangent (solvers.newton, ``Tangent``) is not the
+state's own and is neither kept nor given.
 """
 
 from __future__ import annotations
@@ -42,9 +45,9 @@ class KeptTangent:
     docstring): ``keep`` after each exact assembly, ``at`` before the next."""
 
     def __init__(self, model: CompiledModel) -> None:
-        self._with_tools = bool(model.interactions)
+        self._never = bool(model.interactions)  # module docstring
         # (positions (n, 3) mm, directors (n, 3), the frames (V1, V2) or None, history, load
-        # factor)
+        # factor: not compared, the element blocks' tangent does not depend on it)
         self._where: tuple[np.ndarray, np.ndarray, Frames, tuple, float] | None = None
         self._matrices: tuple[Any, Any] | None = None
 
@@ -52,7 +55,7 @@ class KeptTangent:
         """Keep (K_ff, K_fp), assembled exactly at ``state`` in ``frames`` ((V1, V2), each
         (n, 3), or None without directors); nothing is kept with ``dashpots`` (an
         increment's own diagonal is in K_ff)."""
-        if dashpots is not None:
+        if dashpots is not None or self._never:
             self.forget()
             return
         self._where = (
@@ -73,9 +76,7 @@ class KeptTangent:
         docstring), else None."""
         if not REUSE or self._where is None or self._matrices is None or dashpots is not None:
             return None
-        positions, directors, kept_frames, history, load_factor = self._where
-        if self._with_tools and state.load_factor != load_factor:
-            return None
+        positions, directors, kept_frames, history, _ = self._where
         if len(history) != len(state.history):
             return None
         if any(kept is not now for kept, now in zip(history, state.history)):
