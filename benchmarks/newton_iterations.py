@@ -251,6 +251,11 @@ within one iteration an increment of the default's, 1.0 worse. The kept tangent
 (solvers/kept_tangent.py): the Mindlin lines' Newton tangents elastica 23 -> 19, roll-up 18 ->
 15, cantilever 23 -> 19, Peirce MindlinShell(fabric) 14 -> 12, the same iterations and
 positions to the bit; the fibrous lines unchanged (their folds are history a commit renews).
+Since, an option off by default (solvers/newton_curvature.py ``LEAST_SCALE = 0.25``,
+``correction_scale``): the share of w fitted at each curved step, the least of the parabola
+through ||r||^2 at a = 0, 1/2, 1 within [0.25, 1]: elastica 4-4-4-4-4, roll-up 5-4-4-4,
+cantilever 5-4-4-4-4 (17 tangents, no mode search), MindlinShell(fabric) 5-5-4; not on
+fibrous models (docs/theory.md §6.5, "Curved steps").
 
 Run: python benchmarks/newton_iterations.py [--repeat 3] [--skip-large] [--levels-only]
 [--no-coloured]

@@ -30,7 +30,24 @@ line search on the correction alone; the Newton step itself stays whole and the 
 (solvers.line_search) judges the step as before. Measured (benchmarks/newton_iterations.py):
 the 2560-triangle cantilever 4-5-5-5-4 -> 5-4-4-4-4 Newton iterations (19 -> 17 tangents,
 no indefinite iterate), the elastica 4-6-5-4-4 -> 4-4-4-4-4, the roll-up 5-4-5-4 -> 5-4-4-4,
-Peirce's fibrous strip 6-5-6 -> 5-5-4, the same equilibria.
+the same equilibria. Not on models with a block that offers the compression-free tangent
+(the fibrous shell): there the residual is ruled by the fibres' tension, and the fit of its
+norm cost iterations (Peirce's strip without the level projection 9-9-10 -> 9-25-6) and
+stopped the imperfect fibrous column of tests/test_compression_free_tangent.py at load factor
+0.667; the fibrous models take the whole correction, as before.
+
+Off by default (``LEAST_SCALE = None``; 0.25 turns it on): on the Mindlin strips it changes
+the iterates that six tests were written on (measured on the tests of solvers.static and
+its neighbours, 452 passed): tests/test_static_first_turn.py's roll-up in one increment
+(18 -> 13 iterations where the test asserts 18; its halved increment 8), the stalled attempt
+of tests/test_static_stall.py (8 + 5 iterations against the plain solve's 13, asserted
+fewer) and the stopped ones of tests/test_static_stop.py (they now converge within the
+iterations those tests allow them: no ConvergenceError),
+tests/test_fibre_projection.py's plain MindlinShell(fabric) strip (6-6-5, which the test
+expects above 6), and tests/test_newton_orders.py's elastica, whose second iterate now starts
+at a ratio of 2e-3 to 3e-3 (1.0 before) from where the next step is not yet quadratic
+(orders 1.04-1.6 against the 1.55 asserted; the increments take 4 iterations against
+4-6). Those tests are to be moved to the new paths before it becomes the default.
 
 The correction is trusted only while the expansion it comes from converges: it is taken when
 its scaled norm (rotations times the element size, as the arc length counts them) is at most
@@ -75,7 +92,8 @@ CURVATURE_PROBE = 1e-2
 CURVATURE_LIMIT = 0.5
 # The least share of the correction a step takes (module docstring): the fit of ||r||^2
 # chooses the share within [LEAST_SCALE, 1]; None: the whole correction, the solver before.
-LEAST_SCALE: float | None = 0.25
+# Off (None) by default for now: module docstring.
+LEAST_SCALE: float | None = None
 
 
 def curved_step(
@@ -128,7 +146,7 @@ def curved_step(
     if scaled_norm(correction, size) > CURVATURE_LIMIT * scaled_norm(delta, size):
         return None
     run.info["curved_steps"] += 1
-    if LEAST_SCALE is None:
+    if LEAST_SCALE is None or any(block.compression_free_tangent for block in model.blocks):
         return delta + correction
     return delta + correction_scale(equilibrium, state, frames, delta, correction) * correction
 

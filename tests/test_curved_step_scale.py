@@ -1,6 +1,6 @@
 """solvers.newton_curvature: the curved step takes the share of its second-order correction at
-which the residual is least along it, so that the first update of an increment no longer
-overshoots into a compressed, indefinite iterate."""
+which the residual is least along it (``LEAST_SCALE``, off by default), so that the first
+update of an increment no longer overshoots into a compressed, indefinite iterate."""
 
 from types import SimpleNamespace
 
@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from solvers import Static, newton_curvature
-from solvers.newton_curvature import LEAST_SCALE, correction_scale
+from solvers.newton_curvature import correction_scale
 from validation.references.elastica import tip_loaded_cantilever
 from validation.specimens import mindlin_strip
 
@@ -24,10 +24,11 @@ def _linear_residual(target: np.ndarray):
     )
 
 
-@pytest.mark.parametrize(("least", "expected"), [(0.6, 0.6), (0.1, LEAST_SCALE), (1.7, 1.0)])
-def test_the_share_is_the_least_of_the_residual_within_its_bounds(least, expected):
+@pytest.mark.parametrize(("least", "expected"), [(0.6, 0.6), (0.1, 0.25), (1.7, 1.0)])
+def test_the_share_is_the_least_of_the_residual_within_its_bounds(least, expected, monkeypatch):
     # delta = 0, w = 1 in one unknown, the target at a*: the fit through a = 0, 1/2, 1 is the
     # parabola itself, its vertex a* clipped to [LEAST_SCALE, 1].
+    monkeypatch.setattr(newton_curvature, "LEAST_SCALE", 0.25)
     delta, correction = np.zeros((1, 5)), np.zeros((1, 5))
     correction[0, 0] = 1.0
     target = least * correction
@@ -35,7 +36,8 @@ def test_the_share_is_the_least_of_the_residual_within_its_bounds(least, expecte
     assert share == pytest.approx(expected, abs=1e-12)
 
 
-def test_a_residual_that_is_not_finite_keeps_the_whole_correction():
+def test_a_residual_that_is_not_finite_keeps_the_whole_correction(monkeypatch):
+    monkeypatch.setattr(newton_curvature, "LEAST_SCALE", 0.25)
     delta, correction = np.zeros((1, 5)), np.ones((1, 5))
     target = np.full((1, 5), np.nan)
     assert correction_scale(_linear_residual(target), None, None, delta, correction) == 1.0
@@ -60,8 +62,10 @@ def test_the_elastica_takes_four_iterations_an_increment_and_meets_no_indefinite
     # negative pivot on the way. The tip within the case's 1 % of the elastica (Bisshopp &
     # Drucker 1945) and within 1e-6 of the drop of the whole corrections (both converge to the
     # residual ratio 1e-8).
+    # The share is off by default (solvers.newton_curvature, LEAST_SCALE): turned on here.
     model, tip, drop = _elastica()
     compiled = model.compile()
+    monkeypatch.setattr(newton_curvature, "LEAST_SCALE", 0.25)
     result = Static(increments=5, progress=False).solve(compiled)
     assert max(result.info["iterations_per_increment"]) <= 4
     assert result.info["mode_searches"] == 0
