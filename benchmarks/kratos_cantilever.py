@@ -49,6 +49,24 @@ best of 3, load 8.9-9.1): Static 2.03 s CPU (10.1 s wall) in 4-5-5-5-4 iteration
 tolerance 7.93e-7, the same absolute residual): 7.5 x on CPU time (7.4 x wall); the tips
 differ by 0.0027 %, both within 0.004 % of the elastica.
 
+On this machine again (Kratos 10.4.4 from PyPI in its own venv, one thread, best of 3, load
+12-17 from other work: wall times mean little), before and after the kept tangent
+(solvers/kept_tangent.py: a converged state's stability tangent is the next increment's
+first): Static 1.13 s CPU in 4-5-5-5-4 iterations (23 Newton tangents + 5 stability ones)
+against Kratos's 6.36 s CPU in 7-8-7-7-6: 5.66 x; after, Static 1.18 s CPU (19 + 5 tangents)
+beside its reference pass (every tangent assembled, 23 + 5) at 1.19 s, Kratos 6.40 s: 5.4 x;
+the two Static passes alternated 8 times in one process (load 17.3): best 1.001 / 1.054 s,
+median 1.050 / 1.101 s (0.95 x), so 6.1-6.4 x on Kratos's 6.40 s. The tips as before
+(0.0027 % apart, both within 0.004 % of the elastica). With the curved correction's share
+fitted as well (solvers/newton_curvature.py ``LEAST_SCALE = 0.25``, off by default: the whole
+correction compressed the strip at each increment's first update, 8-14 negative pivots and a
+mode search there), side by side in one run (best of 3, load ~16): Static 1.08 s CPU in
+4-5-5-5-4 iterations (19 + 5 tangents), its reference pass (every tangent assembled) 1.15 s
+(23 + 5), with the share fitted 0.67 s in 5-4-4-4-4 (17 + 5), chords=4 1.18 s in 4-6-5-4-4,
+Kratos 6.72 s CPU in 7-8-7-7-6: 6.2 x on CPU time by default (5.8 x the reference pass, 10.0
+x with the share fitted); wall times 3.36 / 8.27 / 3.67 s against 30.66 at that load. An
+earlier run with the share on in the default row: 0.74 s against Kratos's 6.66 (9.0 x).
+
 Run: python benchmarks/kratos_cantilever.py [--repeats 3]
 """
 
@@ -90,13 +108,21 @@ def _strip():
     return mesh, model, tip, load, drop
 
 
-def static_solve(repeats: int, chords: int | None = None) -> dict:
+def static_solve(
+    repeats: int, chords: int | None = None, before: bool = False, share: float | None = None
+) -> dict:
     """Static on the strip: best wall time of ``repeats`` solves, iterations, tip drop;
-    ``chords``: Static's chord corrections per step (None: its default)."""
+    ``chords``: Static's chord corrections per step (None: its default); ``before``: the
+    solver before the kept tangent (every tangent assembled, solvers.kept_tangent
+    ``REUSE``): the reference pass; ``share``: the least share of the curved correction
+    fitted at each curved step (solvers.newton_curvature ``LEAST_SCALE``; None: the whole
+    correction, the default)."""
     from dataclasses import replace
 
-    from solvers import Static
+    from solvers import Static, kept_tangent, newton_curvature
     from solvers.convergence import Equilibrium
+
+    least = newton_curvature.LEAST_SCALE
 
     _, model, tip, load, drop = _strip()
     compiled = model.compile()
@@ -105,7 +131,12 @@ def static_solve(repeats: int, chords: int | None = None) -> dict:
     for _ in range(repeats):
         started, cpu_started = time.perf_counter(), time.process_time()
         options = {} if chords is None else {"chords": chords}
-        result = Static(increments=INCREMENTS, progress=False, **options).solve(compiled)
+        kept_tangent.REUSE = not before
+        newton_curvature.LEAST_SCALE = share
+        try:
+            result = Static(increments=INCREMENTS, progress=False, **options).solve(compiled)
+        finally:
+            kept_tangent.REUSE, newton_curvature.LEAST_SCALE = True, least
         best = min(best, time.perf_counter() - started)
         cpu = min(cpu, time.process_time() - cpu_started)
     assert result is not None
@@ -266,6 +297,15 @@ def main(argv=None) -> None:
     theirs = kratos_solve(args.repeats, python, ours["kratos_tolerance"])
     rows = [
         ("fibreshell Static (MindlinShell)", ours),
+        (
+            "fibreshell Static (MindlinShell), before (reference pass: every tangent assembled)",
+            static_solve(args.repeats, before=True),
+        ),
+        (
+            "fibreshell Static (MindlinShell), curved correction's share fitted (LEAST_SCALE "
+            "0.25, off by default)",
+            static_solve(args.repeats, share=0.25),
+        ),
         ("fibreshell Static (MindlinShell), chords=4", static_solve(args.repeats, chords=4)),
     ]
     if isinstance(theirs, str):
@@ -273,10 +313,16 @@ def main(argv=None) -> None:
     else:
         rows.append(("Kratos ShellThinElementCorotational3D3N", theirs))
     for name, row in rows:
+        tangents = row.get("evaluations", {})
+        assembled = (
+            f", {tangents['tangent']} + {tangents['stability_tangents']} tangents"
+            if tangents
+            else ""
+        )
         print(
             f"  {name}: {row['wall_s']:.2f} s ({row['cpu_s']:.2f} s CPU), Newton iterations "
             f"per increment "
-            f"{row['iterations']}, tip drop {row['tip_drop']:.3f} mm "
+            f"{row['iterations']}{assembled}, tip drop {row['tip_drop']:.3f} mm "
             f"({row['tip_drop'] / row['elastica'] - 1:+.3%} from the elastica)"
         )
     if not isinstance(theirs, str):

@@ -231,6 +231,32 @@ products' places 3.4, the first factorisation's analysis 3.6; 1.5, 1.4 and 0.8 m
 not kept: the sweeps after the first with the first sweep's factorisation (J new in the
 right-hand side only): Peirce stopped at load factor 0.58 after 8 cuts.
 
+Issue 30's 3-6 Newton iterations an increment, measured on 432e668 (one thread, best of 1, load
+4.5-11): elastica 4-6-5-4-4, roll-up 5-4-5-4, the 2560-triangle cantilever 4-5-5-5-4, Peirce
+fibrous 6-5-6 (the level projection, the default on fibrous models), Peirce
+MindlinShell(fabric) 4-5-5: every one within 3-6, the tips as above; the Mindlin strips' tail
+orders 1.6-3.4 (quadratic), Peirce fibrous's 1.06-2.96. What is left of each increment's first
+update (ratio 1.0: the residual is the membrane's, F_ref's ||F_int|| with it) was followed on
+the cantilever of 20 x 2 cells: the curved step's second-order correction w overshoots on the
+first update of every increment (the residual after delta + a w, increments 1-5: least at a =
+0.6-0.7, 2-7 times below that at a = 1; at a = 1 the iterate has 1-12 negative pivots, none at
+a <= 0.7), and on the 2560-triangle cantilever the 8-14 negative pivots of that iterate cost a
+mode search, the shifted factorisation that tells them from neutral ones and the jump check at
+the end of the increment (0.37 of 1.15 s CPU). Measured and not kept: w scaled by 0.8 / 0.65 /
+0.5 (no indefinite iterate at 0.65 and 0.5): the cantilever 5-5-4-6-4 / 6-6-5-5-4 / 7-7-6-5-6
+(19 -> 20 / 22 / 27 tangents), the elastica 5-5-5-4-4 / 6-5-5-4-5 / 6-6-5-5-5, the roll-up
+5-4-4-5 / 4-4-4-4 / 5-6-6-5, the 20 x 2 cells 5-6-5-9-4 / 6-6-6-5-4 / 7-7-7-5-5: fewer negative
+pivots, not fewer iterations. The curvature probe h (0.01 the default) at 0.1, 0.3, 0.5, 1:
+within one iteration an increment of the default's, 1.0 worse. The kept tangent
+(solvers/kept_tangent.py): the Mindlin lines' Newton tangents elastica 23 -> 19, roll-up 18 ->
+15, cantilever 23 -> 19, Peirce MindlinShell(fabric) 14 -> 12, the same iterations and
+positions to the bit; the fibrous lines unchanged (their folds are history a commit renews).
+Since, an option off by default (solvers/newton_curvature.py ``LEAST_SCALE = 0.25``,
+``correction_scale``): the share of w fitted at each curved step, the least of the parabola
+through ||r||^2 at a = 0, 1/2, 1 within [0.25, 1]: elastica 4-4-4-4-4, roll-up 5-4-4-4,
+cantilever 5-4-4-4-4 (17 tangents, no mode search), MindlinShell(fabric) 5-5-4; not on
+fibrous models (docs/theory.md §6.5, "Curved steps").
+
 Run: python benchmarks/newton_iterations.py [--repeat 3] [--skip-large] [--levels-only]
 [--no-coloured]
 """

@@ -19,6 +19,36 @@ evaluations) and w from the factorisation the step was solved with (one more sol
 tangent is formed. This is the "geodesic acceleration" of Transtrum and Sethna
 (arXiv:1201.5885, 2012) on Newton's equations, the Chebyshev-type third-order step.
 
+The whole correction overshoots where the third-order remainder opposes it: on the first
+update of every increment of the Mindlin cantilevers (the elastica, the 20 x 2 and 80 x 16
+cell strips of benchmarks/kratos_cantilever.py) the residual after delta + a w is least at a
+= 0.6-0.7, 2-7 times below its value at a = 1, where the strip's membrane is compressed (1-14
+negative pivots, each costing a mode search, a shifted factorisation and the increment's
+jump check, solvers.load_jumps). So the correction is scaled by the a in [LEAST_SCALE, 1] at
+which the parabola through ||r||^2 at a = 0, 1/2, 1 (three force evaluations) is least: a
+line search on the correction alone; the Newton step itself stays whole and the watchdog
+(solvers.line_search) judges the step as before. Measured (benchmarks/newton_iterations.py):
+the 2560-triangle cantilever 4-5-5-5-4 -> 5-4-4-4-4 Newton iterations (19 -> 17 tangents,
+no indefinite iterate), the elastica 4-6-5-4-4 -> 4-4-4-4-4, the roll-up 5-4-5-4 -> 5-4-4-4,
+the same equilibria. Not on models with a block that offers the compression-free tangent
+(the fibrous shell): there the residual is ruled by the fibres' tension, and the fit of its
+norm cost iterations (Peirce's strip without the level projection 9-9-10 -> 9-25-6) and
+stopped the imperfect fibrous column of tests/test_compression_free_tangent.py at load factor
+0.667; the fibrous models take the whole correction, as before.
+
+Off by default (``LEAST_SCALE = None``; 0.25 turns it on): on the Mindlin strips it changes
+the iterates that six tests were written on (measured on the tests of solvers.static and
+its neighbours, 452 passed): tests/test_static_first_turn.py's roll-up in one increment
+(18 -> 13 iterations where the test asserts 18; its halved increment 8), the stalled attempt
+of tests/test_static_stall.py (8 + 5 iterations against the plain solve's 13, asserted
+fewer) and the stopped ones of tests/test_static_stop.py (they now converge within the
+iterations those tests allow them: no ConvergenceError),
+tests/test_fibre_projection.py's plain MindlinShell(fabric) strip (6-6-5, which the test
+expects above 6), and tests/test_newton_orders.py's elastica, whose second iterate now starts
+at a ratio of 2e-3 to 3e-3 (1.0 before) from where the next step is not yet quadratic
+(orders 1.04-1.6 against the 1.55 asserted; the increments take 4 iterations against
+4-6). Those tests are to be moved to the new paths before it becomes the default.
+
 The correction is trusted only while the expansion it comes from converges: it is taken when
 its scaled norm (rotations times the element size, as the arc length counts them) is at most
 CURVATURE_LIMIT of the step's (Transtrum and Sethna's acceptance test; a far, badly curved
@@ -42,7 +72,14 @@ if TYPE_CHECKING:
     from solvers.newton import Residual
     from solvers.static import StaticRun
 
-__all__ = ["CURVATURE_LIMIT", "CURVATURE_PROBE", "CURVED_FROM", "curved_step"]
+__all__ = [
+    "CURVATURE_LIMIT",
+    "CURVATURE_PROBE",
+    "CURVED_FROM",
+    "LEAST_SCALE",
+    "correction_scale",
+    "curved_step",
+]
 
 # A step is curved when it turns a director by more than this (rad) or moves a node by more
 # than this many element sizes.
@@ -53,6 +90,10 @@ CURVED_FROM = 1e-3
 CURVATURE_PROBE = 1e-2
 # The largest ratio of the correction's scaled norm to the step's for which it is taken.
 CURVATURE_LIMIT = 0.5
+# The least share of the correction a step takes (module docstring): the fit of ||r||^2
+# chooses the share within [LEAST_SCALE, 1]; None: the whole correction, the solver before.
+# Off (None) by default for now: module docstring.
+LEAST_SCALE: float | None = None
 
 
 def curved_step(
@@ -105,7 +146,38 @@ def curved_step(
     if scaled_norm(correction, size) > CURVATURE_LIMIT * scaled_norm(delta, size):
         return None
     run.info["curved_steps"] += 1
-    return delta + correction
+    if LEAST_SCALE is None or any(block.compression_free_tangent for block in model.blocks):
+        return delta + correction
+    return delta + correction_scale(equilibrium, state, frames, delta, correction) * correction
+
+
+def correction_scale(
+    equilibrium: Residual,
+    state: State,
+    frames: Frames,
+    delta: np.ndarray,
+    correction: np.ndarray,
+) -> float:
+    """The share a in [LEAST_SCALE, 1] of the ``correction`` w (n, 5) at which the parabola
+    through ||r(delta + a w)||^2 at a = 0, 1/2, 1 is least (module docstring); 1 where a
+    residual there is not finite (the watchdog then judges the whole step, as before)."""
+    assert LEAST_SCALE is not None
+    dofs = equilibrium.model.dofs
+    squares = []
+    for share in (0.0, 0.5, 1.0):
+        r, _, _ = equilibrium.residual(
+            dofs.advance(state, delta + share * correction, frames), frames
+        )
+        squares.append(float(np.sum(r * r)))
+    if not np.all(np.isfinite(squares)):
+        return 1.0
+    f0, f_half, f1 = squares
+    curvature = 2.0 * (f0 - 2.0 * f_half + f1)  # f(a) = f0 + slope a + curvature a^2
+    slope = 4.0 * f_half - 3.0 * f0 - f1
+    shares = [1.0, LEAST_SCALE]  # the whole correction where the fit ties
+    if curvature > 0.0:
+        shares.append(float(np.clip(-slope / (2.0 * curvature), LEAST_SCALE, 1.0)))
+    return min(shares, key=lambda a: f0 + slope * a + curvature * a * a)
 
 
 def scaled_norm(delta: np.ndarray, size: float) -> float:

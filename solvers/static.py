@@ -264,7 +264,10 @@ class Static:
     above). Newton converges one update after its last
     factorisation, so the tangent at the converged state is assembled and factorised once more
     (``info["evaluations"]["stability_tangents"]``; StaticRun.factor_at), unless the last one
-    was made there (docs/theory.md §6.5, "The stability of a converged state"). Load factors
+    was made there (docs/theory.md §6.5, "The stability of a converged state"); the next
+    increment's first iteration takes that tangent and its factors again where it starts from
+    that state in a model without interactions (solvers/kept_tangent.py,
+    ``info["tangents_reused"]``, not in ``"tangent"``). Load factors
     with a non-zero count (unstable equilibria, past a limit point or a bifurcation) are listed
     in ``info["indefinite_at"]``. A singular tangent is regularised for one update (see
     solvers.newton.newton) and reported if the increment then fails.

@@ -35,6 +35,7 @@ from solvers.common import (
 )
 from solvers.force_floor import round_off_force, unloaded_floor
 from solvers.interrupts import STOP, Interrupted
+from solvers.kept_tangent import KeptTangent
 from solvers.linear import Factorisation, LinearSolver
 from solvers.neutral_modes import judge_pivots
 from solvers.newton import Residual, Tangent, compression_free_ratio
@@ -133,6 +134,11 @@ class StaticRun:
         # assembled at or None, the factorisation) of the last one factorised (``factor_at``).
         self._assembled: tuple[State | None, Any] = (None, None)
         self._factorised: tuple[State | None, Factorisation | None] = (None, None)
+        # The last exact tangent and where it was made (solvers.kept_tangent): the stability
+        # tangent of a converged state is the next increment's first; and (K_ff, judged, its
+        # factorisation) of the last factorisation made (``factorise``).
+        self.kept = KeptTangent(model)
+        self._made: tuple[Any, bool, Factorisation] | None = None
         # The viscous stabilisation (solvers.stabilisation): the masses once, the dashpots of
         # the increment being solved, and the energy they dissipated so far.
         self.dashpots: Dashpots | None = None
@@ -175,6 +181,7 @@ class StaticRun:
             "compression_free": self.compression_free,
             "compression_free_tangents": 0,
             "mode_searches": 0,
+            "tangents_reused": 0,
             "round_off_probes": 0,
             "round_off_converged": 0,
             "contact_set_updates": 0,
@@ -273,7 +280,15 @@ class StaticRun:
     ):
         """(K_ff, K_fp) at ``state``, the dashpots' diagonal added in a stabilised
         increment; ``compression_free``, ``real``: those of solvers.newton.Tangent. Counted
-        in ``info["evaluations"]["tangent"]``; ``factor_at``'s in its "stability_tangents"."""
+        in ``info["evaluations"]["tangent"]``; ``factor_at``'s in its "stability_tangents".
+        The exact tangent last assembled is given again, not assembled, where it was made at
+        this very configuration (solvers.kept_tangent; ``info["tangents_reused"]``)."""
+        if not compression_free:
+            kept = self.kept.at(state, frames, self.dashpots)
+            if kept is not None:
+                self.info["tangents_reused"] += 1
+                self._assembled = (state, kept[0])
+                return kept
         self.counts["tangent"] += 1
         return self._assemble(state, frames, compression_free, real)
 
@@ -290,15 +305,26 @@ class StaticRun:
             k_ff = (k_ff + sp.diags(diagonal, format="csc")).tocsc()
         # The exact tangent only is the state's own (``factor_at``).
         self._assembled = (None if compression_free else state, k_ff)
+        if compression_free:
+            self.kept.forget()
+        else:
+            self.kept.keep(state, frames, k_ff, k_fp, self.dashpots)
         return k_ff, k_fp
 
     def factorise(self, k_ff, judge: bool = True) -> Factorisation:
         """The factorisation of ``k_ff``; with ``judge`` its negative pivots within the
         tangent's round-off of zero counted as neutral, not negative (solvers.neutral_modes:
-        a second factorisation, by a linear solver of its own, where K_ff has any)."""
-        factor = self.linear.factorise(k_ff)
-        if judge:
-            factor = judge_pivots(self.neutral_linear, k_ff, factor)
+        a second factorisation, by a linear solver of its own, where K_ff has any). The
+        very matrix factorised last (a kept tangent given again, solvers.kept_tangent) is not
+        factorised again: its factorisation is the linear solver's last, still whole."""
+        made = self._made
+        if made is not None and made[0] is k_ff and made[1] == judge:
+            factor = made[2]
+        else:
+            factor = self.linear.factorise(k_ff)
+            if judge:
+                factor = judge_pivots(self.neutral_linear, k_ff, factor)
+            self._made = (k_ff, judge, factor)
         state, assembled = self._assembled
         self._factorised = (state if k_ff is assembled else None, factor)
         return factor
