@@ -6,7 +6,7 @@ key, as the errors of reading the file do (fibreshell/case_reading.py)."""
 from __future__ import annotations
 
 import warnings
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 from contextlib import contextmanager
 
 from femcore import Model
@@ -66,10 +66,7 @@ class LocatedModel:
             try:
                 self.model.compile()
             except EntryError as error:
-                places = self.places[error.kind]
-                if error.index >= len(places):  # added outside ``at``: nothing to name
-                    raise
-                raise places[error.index].error(None, error.reason) from None
+                raise self.located(error) from None
             except MeshTopologyError as error:
                 if self.mesh_at is None:
                     raise
@@ -84,3 +81,20 @@ class LocatedModel:
             else:
                 warnings.warn_explicit(message, warning.category, warning.filename, warning.lineno)
         return self.model
+
+    def located(self, error: EntryError) -> Exception:
+        """``error`` as a CaseError at the table of the entry it names (and at its ``key``
+        where it has one: a holder's "force"); ``error`` itself for an entry added outside
+        ``at``, which no table wrote."""
+        places = self.places[error.kind]
+        if error.index >= len(places):
+            return error
+        return places[error.index].error(getattr(error, "key", None), error.reason)
+
+    def check(self, check: Callable[[Model], None]) -> None:
+        """Run ``check`` on the compiled model; an EntryError it raises becomes a CaseError at
+        the table of the entry it names, as ``compile``'s do."""
+        try:
+            check(self.model.compile())
+        except EntryError as error:
+            raise self.located(error) from None

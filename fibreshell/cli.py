@@ -252,12 +252,17 @@ def _interrupted_line(case, run, args: argparse.Namespace, out: Path) -> str:
     last = run.result.frames[-1]
     where = (f"t = {last.time:.6g} s" if run.summary["solver"] == "explicit"
              else f"load factor {last.load_factor:.6g}")  # fmt: skip
+    kind = case.solver["kind"]
     if run.checkpoint is not None and run.checkpoint.exists():
         then = f"resume with: fibreshell run {args.case} --out {out} --resume"
-    elif run.checkpoint is not None:
-        then = "nothing converged to resume from: run it again"
+    elif kind == "static":
+        then = "a static run keeps no checkpoint: run it again to go on"
+    elif case.solver.get("checkpoint") is None:  # [solver] checkpoint = false
+        then = "no checkpoint asked for ([solver] checkpoint = false): run it again to go on"
+    elif kind == "relaxation":  # its checkpoint is written as an increment converges
+        then = "no increment converged yet, so no checkpoint to resume from: run it again"
     else:
-        then = "no checkpoint (static run): run it again to go on"
+        then = "no checkpoint written: run it again"
     return (f"{case.title}: INTERRUPTED by {run.signal} after {run.result.steps} steps (last "
             f"frame at {where}); kept {kept(out, run.checkpoint)}; {then}")  # fmt: skip
 

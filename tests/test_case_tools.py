@@ -72,3 +72,51 @@ def test_smooth_on_an_analytic_tool_is_an_unknown_key(tmp_path):
     path.write_text(text)
     with pytest.raises(CaseError, match=r"contact\[0\]\.smooth\]: unknown key"):
         load_case(path)
+
+
+HOLDER = """
+title = "plate between a die and a holder"
+[mesh]
+rectangle = {{ lx = 20.0, ly = 20.0, nx = 2, ny = 2, origin = [0.0, 0.0, 0.5] }}
+[[part]]
+element = "mindlin"
+material = {{ E = 1000.0, nu = 0.3, thickness = 1.0, density = 1e-9 }}
+[[fix]]
+nodes = {{ x_min = 0.0 }}
+dofs = ["ux", "uy"]
+[[contact]]
+tool = "plane"
+point = [0.0, 0.0, 0.0]
+normal = [0.0, 0.0, 1.0]
+[[contact]]
+tool = "plane"
+point = [0.0, 0.0, 1.0]
+normal = [0.0, 0.0, -1.0]
+free = ["z"]
+force = [0.0, 0.0, {force}]
+[solver]
+kind = "{kind}"
+increments = 2
+"""
+
+
+@pytest.mark.parametrize("kind", ["static", "relaxation"])
+def test_a_holder_force_away_from_the_body_is_refused_at_its_file_table_and_key(
+    tmp_path, capsys, kind
+):
+    """The holder (the second [[contact]], its face looking down at the plate) pushed up by
+    10 N, away from the plate: no quasi-static position balances it. Refused before anything
+    runs, as every case-file error, naming the file, [contact[1].force] and the sign to give
+    (before: the solver's text alone, without the file and the key)."""
+    from fibreshell.cli import main
+
+    path = tmp_path / "holder.toml"
+    path.write_text(HOLDER.format(force=10.0, kind=kind))
+    assert main(["run", str(path), "--out", str(tmp_path / "out"), "--quiet"]) == 2
+    said = capsys.readouterr().err
+    assert f"{path}: [contact[1].force]: tool2's force (0, 0, 10) N points away from" in said
+    assert "(0, 0, -10) N" in said
+    with pytest.raises(CaseError, match=r"\[contact\[1\]\.force\]"):
+        load_case(path).model()
+    path.write_text(HOLDER.format(force=-10.0, kind=kind))
+    load_case(path).model()  # towards the plate: taken
