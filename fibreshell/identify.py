@@ -484,20 +484,24 @@ def identify(
                     x_scale=1.0, max_nfev=max_evaluations, ftol=1e-6, xtol=1e-5, gtol=1e-10,
                 )  # fmt: skip
                 best, success, message = solution.x, bool(solution.success), solution.message
+                capped = None
             except _CapReached:
                 # The best point evaluated (the optimiser's or a Jacobian's shifted one).
                 best = np.array(min(cache, key=lambda p: float(cache[p][0] @ cache[p][0])))
-                success = False
-                message = (
-                    f"stopped at the cap of {max_evaluations} model evaluations (the "
-                    f"optimiser's {budget}, and {4 * len(keys)} kept for the Jacobian at the "
-                    "end); the values are the best evaluated: give more (max_evaluations)"
-                )
-            solution = optimize.OptimizeResult(x=best, success=success, message=message)
+                success, message, capped = False, "", counts["evaluations"]
             # Central differences at h and 2 h: the first is the Jacobian analysed, their
             # difference its error (fibreshell/identifiability.py).
             shifts = [s * step * e for s in (1.0, -1.0, 2.0, -2.0) for e in np.eye(len(keys))]
-            evaluate([solution.x, *(solution.x + shift for shift in shifts)])
+            evaluate([best, *(best + shift for shift in shifts)])
+            if capped is not None:  # said once the Jacobian's are counted: the counts agree
+                message = (
+                    f"stopped at the cap of {max_evaluations} model evaluations: "
+                    f"{counts['evaluations']} made, {capped} by the optimiser (its next step "
+                    f"would have passed its share, {budget}) and "
+                    f"{counts['evaluations'] - capped} for the Jacobian at the end; the values "
+                    "are the best evaluated"
+                )
+            solution = optimize.OptimizeResult(x=best, success=success, message=message)
 
             def central(width: float) -> np.ndarray:
                 return np.column_stack([
@@ -716,6 +720,11 @@ def format_result(result: Identification) -> str:
     lines.append(
         f"RMS residual {result.residual_rms:.4g}; {result.evaluations} evaluations, "
         f"{result.runs} runs, {result.wall_time_s:.1f} s; "
-        f"{'' if result.success else 'NOT CONVERGED: '}{result.message}"
+        + (
+            result.message
+            if result.success
+            else f"NOT CONVERGED: "
+            f"{result.message.rstrip('.')}: give the fit more evaluations (--max-evaluations)"
+        )
     )
     return "\n".join(lines)

@@ -157,6 +157,10 @@ def test_the_evaluation_cap_bounds_every_model_evaluation_of_the_fit(dask_schedu
                       scheduler=dask_scheduler, progress=False)  # fmt: skip
     assert result.evaluations <= 7 and result.runs == 2 * result.evaluations
     assert not result.success and "stopped at the cap of 7 model evaluations" in result.message
+    # the message counts what identify.json's "evaluations" counts (before: the cap alone,
+    # beside a count it did not explain), and names no option of its own: the commands do
+    assert f"cap of 7 model evaluations: {result.evaluations} made" in result.message
+    assert "max_evaluations" not in result.message
     with pytest.raises(ValueError, match=r"max_evaluations must be a whole number >= 6 for 1"):
         identify(case, data, {"part.0.material.bending": 0.2}, max_evaluations=3)
 
@@ -344,7 +348,9 @@ def test_a_fit_that_did_not_converge_and_an_interval_through_zero_are_said():
     )  # fmt: skip
     printed = format_result(found).splitlines()
     assert "it reaches zero: the data do not determine this value" in printed[0]
-    assert printed[-1].endswith("NOT CONVERGED: the cap was reached")
+    assert printed[-1].endswith(
+        "NOT CONVERGED: the cap was reached: give the fit more evaluations (--max-evaluations)"
+    )
 
 
 def test_a_singular_value_within_the_jacobian_s_error_is_not_a_determined_combination():
