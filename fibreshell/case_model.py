@@ -11,6 +11,7 @@ from contextlib import contextmanager
 
 from femcore import Model
 from femcore.entry_error import ENTRY_LISTS, EntryError, EntryWarning
+from femcore.model import CompiledModel
 from femcore.topology import MeshTopologyError
 from fibreshell.case_reading import CaseError, _Where
 
@@ -91,7 +92,7 @@ class LocatedModel:
             return error
         return places[error.index].error(getattr(error, "key", None), error.reason)
 
-    def check(self, check: Callable[[Model], None]) -> None:
+    def check(self, check: Callable[[CompiledModel], None]) -> None:
         """Run ``check`` on the compiled model; an EntryError it raises becomes a CaseError at
         the table of the entry it names, as ``compile``'s do."""
         try:
