@@ -24,7 +24,8 @@ __all__ = ["ForceAwayFromBody", "check_driven_tools_face_body"]
 
 class ForceAwayFromBody(EntryError):
     """A force-driven tool's force that points away from the body (a ValueError): ``index``
-    the first interaction the tool belongs to, ``key`` the setting at fault ("force"), so that
+    the first interaction the tool belongs to (in the model's interactions, which a ply
+    stack's contacts may precede), ``key`` the setting at fault ("force"), so that
     a case file's error names the ``[[contact]]`` table and its key (fibreshell/case_model.py).
     """
 
@@ -62,7 +63,7 @@ def check_driven_tools_face_body(model: CompiledModel) -> None:
         way = f" (the body lies along {_vector(towards / length)} from it)" if length else ""
         raise ForceAwayFromBody(
             "interaction",
-            int(rows[0]),
+            tools.interaction_of(k),
             f"{names[k]}'s force {_vector(force)} N points away from the body{way}: a "
             "force-driven tool presses the body only with a force towards it, and this one "
             "would leave it, where a quasi-static solver (Static, DynamicRelaxation) finds no "
