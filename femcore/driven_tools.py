@@ -69,6 +69,11 @@ class DrivenTools:
     def __len__(self) -> int:
         return len(self.nodes)
 
+    def interaction_of(self, k: int) -> int:
+        """The index (in the model's interactions) of the first interaction whose tool node
+        is node ``k`` of ``nodes``: the entry a message about that tool names."""
+        return next(index for index, _, node in self._owners if node == k)
+
     def names(self) -> list[str]:
         """Each node's tools as ``summary.json`` and the history name them: "tool2", or
         "tool2+tool3" for a tool node two contacts share."""

@@ -126,6 +126,7 @@ from fibreshell.case_tools import read_tool
 from fibreshell.gravity_units import warn_gravity_units
 from fibreshell.outputs import DEFAULT_CHECKPOINT, checkpoint_collision
 from solvers import CentralDifference, DynamicRelaxation, Static
+from solvers.driven_tool_checks import check_driven_tools_face_body
 
 __all__ = ["Case", "CaseError", "case_from_data", "load_case", "read_case_data"]
 
@@ -255,6 +256,11 @@ class Case:
         # Compiled here, where each entry's table is known (the solver reuses it): an error
         # of binding or applying one names the file, the table and the key.
         model = located.compile()
+        if self.solver["kind"] != "explicit":
+            # A holder whose force points away from the body has no quasi-static balance: the
+            # solver refuses it as it starts (solvers/common.py check_held); checked here too,
+            # where the [[contact]] that wrote it is known, so the error names it and its key.
+            located.check(check_driven_tools_face_body)
         # A history set on nodes of cells that no part covers (a line of the mesh without a
         # cable part) would read 0 in every row: refused as one on nodes of no cell is.
         carried = np.any(model.compile().dofs.active, axis=1, keepdims=False).reshape(-1)

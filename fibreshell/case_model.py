@@ -6,11 +6,12 @@ key, as the errors of reading the file do (fibreshell/case_reading.py)."""
 from __future__ import annotations
 
 import warnings
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 from contextlib import contextmanager
 
 from femcore import Model
 from femcore.entry_error import ENTRY_LISTS, EntryError, EntryWarning
+from femcore.model import CompiledModel
 from femcore.topology import MeshTopologyError
 from fibreshell.case_reading import CaseError, _Where
 
@@ -66,11 +67,7 @@ class LocatedModel:
             try:
                 self.model.compile()
             except EntryError as error:
-                places = self.places[error.kind]
-                if error.index >= len(places):  # added outside ``at``: nothing to name
-                    raise
-                reason = error.reason if error.case_reason is None else error.case_reason
-                raise places[error.index].error(error.key, reason) from None
+                raise self.located(error) from None
             except MeshTopologyError as error:
                 if self.mesh_at is None:
                     raise
@@ -85,3 +82,21 @@ class LocatedModel:
             else:
                 warnings.warn_explicit(message, warning.category, warning.filename, warning.lineno)
         return self.model
+
+    def located(self, error: EntryError) -> Exception:
+        """``error`` as a CaseError at the table of the entry it names (and at its ``key``
+        where it has one: a holder's "force"); ``error`` itself for an entry added outside
+        ``at``, which no table wrote."""
+        places = self.places[error.kind]
+        if error.index >= len(places):
+            return error
+        reason = error.reason if error.case_reason is None else error.case_reason
+        return places[error.index].error(error.key, reason)
+
+    def check(self, check: Callable[[CompiledModel], None]) -> None:
+        """Run ``check`` on the compiled model; an EntryError it raises becomes a CaseError at
+        the table of the entry it names, as ``compile``'s do."""
+        try:
+            check(self.model.compile())
+        except EntryError as error:
+            raise self.located(error) from None

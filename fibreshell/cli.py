@@ -4,7 +4,8 @@ validation report.
     fibreshell run CASE.toml [--out DIR] [--resume] [--quiet]
     fibreshell compare CASE.toml [--out DIR] [--calibration laws|fit|initial-slope]
                      [--kinematics fibrous,mindlin,plies] [--plies N] [--shear-ratio R]
-                     [--fit-path NAME] [--scheduler ADDRESS] [--workers N] [--quiet]
+                     [--fit-path NAME] [--fit-evaluations N] [--scheduler ADDRESS]
+                     [--workers N] [--quiet]
     fibreshell sweep CASE.toml --vary KEY=V1,V2 [--vary ...] [--zip] [--scheduler ADDRESS]
                      [--workers N] [--out DIR] [--quiet]
     fibreshell identify CASE.toml --data MEASURED.csv --fit KEY[=START][,KEY...] [--path NAME]
@@ -96,6 +97,11 @@ def _parser() -> argparse.ArgumentParser:
             command.add_argument(
                 "--fit-path", default=None,
                 help="the path --calibration fit matches (default: the first)",
+            )  # fmt: skip
+            command.add_argument(
+                "--fit-evaluations", type=int, default=None, metavar="N",
+                help="model evaluations --calibration fit may make in all, its Jacobians' "
+                "included (default 34; at least 11)",
             )  # fmt: skip
             command.add_argument(
                 "--scheduler", default=None, metavar="ADDRESS",
@@ -252,12 +258,17 @@ def _interrupted_line(case, run, args: argparse.Namespace, out: Path) -> str:
     last = run.result.frames[-1]
     where = (f"t = {last.time:.6g} s" if run.summary["solver"] == "explicit"
              else f"load factor {last.load_factor:.6g}")  # fmt: skip
+    kind = case.solver["kind"]
     if run.checkpoint is not None and run.checkpoint.exists():
         then = f"resume with: fibreshell run {args.case} --out {out} --resume"
-    elif run.checkpoint is not None:
-        then = "nothing converged to resume from: run it again"
+    elif kind == "static":
+        then = "a static run keeps no checkpoint: run it again to go on"
+    elif case.solver.get("checkpoint") is None:  # [solver] checkpoint = false
+        then = "no checkpoint asked for ([solver] checkpoint = false): run it again to go on"
+    elif kind == "relaxation":  # its checkpoint is written as an increment converges
+        then = "no increment converged yet, so no checkpoint to resume from: run it again"
     else:
-        then = "no checkpoint (static run): run it again to go on"
+        then = "no checkpoint written: run it again"
     return (f"{case.title}: INTERRUPTED by {run.signal} after {run.result.steps} steps (last "
             f"frame at {where}); kept {kept(out, run.checkpoint)}; {then}")  # fmt: skip
 
@@ -306,6 +317,13 @@ def _main(argv: list[str]) -> int:
             runs = {"": run}
         else:
             out = _out_folder(args.out, args.case, "-compare")
+            if args.fit_evaluations is not None and args.calibration != "fit":
+                raise ValueError(
+                    f"--fit-evaluations {args.fit_evaluations} is the cap of --calibration fit; "
+                    f"got --calibration {args.calibration}"
+                )
+            fitting = {} if args.fit_evaluations is None else {
+                "fit_evaluations": args.fit_evaluations}  # fmt: skip
             # The calibration before the runs: a reader knows what is compared while waiting.
             stated = calibration_lines(case, args.calibration, args.shear_ratio, args.kinematics,
                                        args.transverse_shear, args.twisting)  # fmt: skip
@@ -315,7 +333,7 @@ def _main(argv: list[str]) -> int:
                 case, out, progress, calibration=args.calibration, kinematics=args.kinematics,
                 plies=args.plies, shear_ratio=args.shear_ratio, fit_path=args.fit_path,
                 transverse_shear=args.transverse_shear, twisting=args.twisting,
-                scheduler=args.scheduler, workers=args.workers,
+                scheduler=args.scheduler, workers=args.workers, **fitting,
             )  # fmt: skip
             comparison = json.loads((out / "comparison.json").read_text())
             fitted = args.calibration == "fit"  # its values are known only now

@@ -509,10 +509,11 @@ def _calibration_lines(calibration: dict[str, Any]) -> list[str]:
                 f"{value['residual_rms_mm']:.3g} mm in {value['evaluations']} evaluations"
             )
             if not value.get("success", True):
-                # the values are the last the fit evaluated, not a converged fit's
+                # identify's message says which values these are (the best evaluated)
+                said = str(value.get("message", "")).rstrip(".")
                 lines.append(
-                    f"  NOT CONVERGED: {value.get('message', '')} The values below are the "
-                    "last evaluated; give the fit more evaluations (fit_evaluations)"
+                    f"  NOT CONVERGED: {said}: give the fit more evaluations "
+                    "(fibreshell compare --fit-evaluations)"
                 )
             for name, ends in value["confidence_95"].items():
                 found = value["values"][name]

@@ -46,6 +46,7 @@ from fibreshell.identifiability import (
     reduced_combinations,
 )
 from fibreshell.outputs import IDENTIFY_FILES
+from fibreshell.responses import mixed_units_warning, response_residuals
 from fibreshell.run import strict_json
 from fibreshell.sweep import RUN_KEYS, apply_overrides, read_value, run_variant, summary_row
 
@@ -70,7 +71,9 @@ class Identification:
     in sigmas when ``sigma`` is given), how the optimiser ended, the number of model
     evaluations and of runs (Dask tasks), the wall time (s); ``conditions``, ``measured``,
     ``fitted`` and ``initial`` per data row for figures, and ``profiles`` (fitted, initial):
-    per condition group the model's path (horizontal, z) for a profile fit."""
+    per condition group the model's path (horizontal, z) for a profile fit; ``by_response``:
+    per response column its RMS residual and its measured values' RMS
+    (fibreshell.responses.response_residuals)."""
 
     keys: list[str]
     start: np.ndarray
@@ -98,6 +101,7 @@ class Identification:
     singular_values: np.ndarray = field(default_factory=lambda: np.zeros(0))
     jacobian_error: float = float("nan")
     direction_errors: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    by_response: dict[str, dict] = field(default_factory=dict)
 
     @property
     def all_determined(self) -> bool:
@@ -117,6 +121,7 @@ class Identification:
                 for i, key in enumerate(self.keys)
             },
             "residual_rms": self.residual_rms,
+            "residual_rms_by_response": self.by_response,
             "success": self.success,
             "message": self.message,
             "evaluations": self.evaluations,
@@ -396,6 +401,7 @@ def identify(
             raise ValueError(f"sigma: {column!r} is not a response column ({', '.join(named)})")
         if isinstance(value, bool) or not isinstance(value, int | float) or not value > 0:
             raise ValueError(f"sigma: {column} must be a positive number, got {value!r}")
+    mixed_units_warning(named, weights)  # before the runs: a user may stop and give sigma
     # Each residual over its column's sigma: rows are laid out row by row, columns inside.
     scale = np.tile([float(weights.get(c, 1.0)) for c in named], len(measured) // len(named))
     cache: dict[tuple, tuple[np.ndarray, list[dict]]] = {}
@@ -484,20 +490,25 @@ def identify(
                     x_scale=1.0, max_nfev=max_evaluations, ftol=1e-6, xtol=1e-5, gtol=1e-10,
                 )  # fmt: skip
                 best, success, message = solution.x, bool(solution.success), solution.message
+                capped = None
             except _CapReached:
                 # The best point evaluated (the optimiser's or a Jacobian's shifted one).
                 best = np.array(min(cache, key=lambda p: float(cache[p][0] @ cache[p][0])))
-                success = False
-                message = (
-                    f"stopped at the cap of {max_evaluations} model evaluations (the "
-                    f"optimiser's {budget}, and {4 * len(keys)} kept for the Jacobian at the "
-                    "end); the values are the best evaluated: give more (max_evaluations)"
-                )
-            solution = optimize.OptimizeResult(x=best, success=success, message=message)
+                success, message, capped = False, "", counts["evaluations"]
             # Central differences at h and 2 h: the first is the Jacobian analysed, their
             # difference its error (fibreshell/identifiability.py).
             shifts = [s * step * e for s in (1.0, -1.0, 2.0, -2.0) for e in np.eye(len(keys))]
-            evaluate([solution.x, *(solution.x + shift for shift in shifts)])
+            evaluate([best, *(best + shift for shift in shifts)])
+            if capped is not None:  # said once the Jacobian's are counted: the counts agree
+                message = (
+                    f"stopped at the cap of {max_evaluations} model evaluations: "
+                    f"{counts['evaluations']} made, {capped} by the optimiser (its share "
+                    f"{budget}: its next step would have passed it) and "
+                    f"{counts['evaluations'] - capped} for the Jacobian at the end (of its "
+                    f"{4 * len(keys)} points, those not evaluated before); the values are the "
+                    "best evaluated"
+                )
+            solution = optimize.OptimizeResult(x=best, success=success, message=message)
 
             def central(width: float) -> np.ndarray:
                 return np.column_stack([
@@ -561,6 +572,7 @@ def identify(
             standard_errors=errors,
             intervals=intervals,
             residual_rms=float(np.sqrt(np.mean(final**2))),  # in units of sigma when given
+            by_response=response_residuals(named, final, measured, weights),
             success=bool(solution.success),
             message=str(solution.message),
             evaluations=counts["evaluations"],
@@ -713,9 +725,23 @@ def format_result(result: Identification) -> str:
             lines.append(
                 f"determined: {combination['combination']} = {combination['value']:.6g}{bounds}"
             )
+    if len(result.by_response) > 1:  # which response the fit does not follow
+        lines.append(
+            "RMS residual by response (over its sigma, else in its unit; against its "
+            "measured values' RMS): "
+            + ", ".join(
+                f"{column} {r['rms']:.4g} {r['unit']} (of {r['measured_rms']:.4g})"
+                for column, r in result.by_response.items()
+            )
+        )
     lines.append(
         f"RMS residual {result.residual_rms:.4g}; {result.evaluations} evaluations, "
         f"{result.runs} runs, {result.wall_time_s:.1f} s; "
-        f"{'' if result.success else 'NOT CONVERGED: '}{result.message}"
+        + (
+            result.message
+            if result.success
+            else f"NOT CONVERGED: "
+            f"{result.message.rstrip('.')}: give the fit more evaluations (--max-evaluations)"
+        )
     )
     return "\n".join(lines)

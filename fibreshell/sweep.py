@@ -563,7 +563,7 @@ def sweep(
                             progress,
                             done,
                         )
-        except KeyboardInterrupt:  # Ctrl-C or SIGTERM: the variants that did not end say so
+        except KeyboardInterrupt:  # SIGINT or SIGTERM: the variants that did not end say so
             for task, i in enumerate(where):
                 if task not in ended:
                     rows[i].update(converged=False, error=INTERRUPTED)
@@ -577,10 +577,13 @@ def sweep(
 
 @contextmanager
 def _terminated_as_interrupt() -> Iterator[None]:
-    """SIGTERM raised as KeyboardInterrupt while the sweep runs (in the main thread; elsewhere
-    signals cannot be set and nothing changes), so that a terminated sweep, as one stopped by
-    Ctrl-C, writes sweep.csv with its unfinished variants marked; the previous handler is
-    restored on exit."""
+    """SIGINT and SIGTERM raised as KeyboardInterrupt while the sweep runs (in the main
+    thread; elsewhere signals cannot be set and nothing changes), so that a terminated sweep,
+    as one stopped by Ctrl-C, writes sweep.csv with its unfinished variants marked; the
+    previous handlers are restored on exit. SIGINT's is set too, not left to Python's default:
+    a shell starts a background job of a non-interactive script with SIGINT ignored, which
+    Python keeps, and such a sweep ignored Ctrl-C and ``kill -INT`` (``fibreshell run`` sets
+    its own handler, solvers.interruptible, and stops with 130)."""
     if threading.current_thread() is not threading.main_thread():
         yield
         return
@@ -588,8 +591,10 @@ def _terminated_as_interrupt() -> Iterator[None]:
     def interrupt(number: int, frame: Any) -> None:
         raise KeyboardInterrupt
 
-    previous = signal.signal(signal.SIGTERM, interrupt)
+    previous = {number: signal.signal(number, interrupt)
+                for number in (signal.SIGINT, signal.SIGTERM)}  # fmt: skip
     try:
         yield
     finally:
-        signal.signal(signal.SIGTERM, previous)
+        for number, old in previous.items():  # None: a handler not set from Python
+            signal.signal(number, signal.SIG_DFL if old is None else old)

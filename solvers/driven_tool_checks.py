@@ -16,9 +16,20 @@ from __future__ import annotations
 
 import numpy as np
 
+from femcore.entry_error import EntryError
 from femcore.model import CompiledModel
 
-__all__ = ["check_driven_tools_face_body"]
+__all__ = ["ForceAwayFromBody", "check_driven_tools_face_body"]
+
+
+class ForceAwayFromBody(EntryError):
+    """A force-driven tool's force that points away from the body (a ValueError): ``index``
+    the first interaction the tool belongs to (in the model's interactions, which a ply
+    stack's contacts may precede), ``key`` the setting at fault ("force"), so that
+    a case file's error names the ``[[contact]]`` table and its key (fibreshell/case_model.py).
+    """
+
+    key = "force"
 
 
 def _vector(v: np.ndarray) -> str:
@@ -26,10 +37,10 @@ def _vector(v: np.ndarray) -> str:
 
 
 def check_driven_tools_face_body(model: CompiledModel) -> None:
-    """Raise ValueError when a force-driven tool's force (along its free axes, at load factor
-    1) points away from every node it may touch: its component along each normal from the
-    tool towards them is <= 0. The message names the tool, its force and the way to the
-    body."""
+    """Raise ForceAwayFromBody (a ValueError) when a force-driven tool's force (along its free
+    axes, at load factor 1) points away from every node it may touch: its component along each
+    normal from the tool towards them is <= 0. The message names the tool, its force and the
+    way to the body."""
     tools = model.driven_tools
     if not len(tools):
         return
@@ -50,11 +61,13 @@ def check_driven_tools_face_body(model: CompiledModel) -> None:
         towards = np.mean(np.concatenate(normals), axis=0) * tools.free[k]
         length = float(np.linalg.norm(towards))
         way = f" (the body lies along {_vector(towards / length)} from it)" if length else ""
-        raise ValueError(
+        raise ForceAwayFromBody(
+            "interaction",
+            tools.interaction_of(k),
             f"{names[k]}'s force {_vector(force)} N points away from the body{way}: a "
             "force-driven tool presses the body only with a force towards it, and this one "
             "would leave it, where a quasi-static solver (Static, DynamicRelaxation) finds no "
             "position at which the contact forces balance it. Give the force towards the body "
             "(its sign turned, "
-            f"{_vector(-force + 0.0)} N, for a tool whose face looks straight at the body)"
+            f"{_vector(-force + 0.0)} N, for a tool whose face looks straight at the body)",
         )

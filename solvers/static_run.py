@@ -44,7 +44,7 @@ from solvers.newton_levels import LevelStrains
 from solvers.output import FrameStream
 from solvers.round_off import rounding_stop
 from solvers.stabilisation import Dashpots
-from solvers.stop_diagnosis import neutral_hint, stop_hint
+from solvers.stop_diagnosis import neutral_hint, still_falling, stop_hint
 from solvers.tool_penetration import record_tool_penetration
 
 if TYPE_CHECKING:
@@ -564,17 +564,27 @@ class StaticRun:
         self.info["cuts"] += 1
         if cuts + 1 > self.solver.max_cuts:
             reason = f"{what} did not converge after {cuts} cuts ({failure})"
-            raise self.failure(reason, aim) from None
+            capped = still_falling(getattr(failure, "history", []))
+            raise self.failure(reason, aim, capped) from None
         return cuts + 1
 
-    def failure(self, reason: str, aim: float | None = None) -> ConvergenceError:
+    def failure(
+        self, reason: str, aim: float | None = None, capped: bool = False
+    ) -> ConvergenceError:
         """The ConvergenceError of a stop for ``reason``, with its cause where one is known:
-        at ``aim`` (the load factor the failed increment aimed at) the rounding of the
-        internal forces above what the solver can take for it (solvers.round_off
-        ``rounding_stop``: models without interactions or dashpots, as its floor), else
-        ``stop_hint``'s."""
+        ``capped``, the last attempt ran out of iterations with its residual ratio still
+        falling (``still_falling``): the cap max_iterations, said first, not a limit point; at
+        ``aim`` (the load factor the failed increment aimed at) the rounding of the internal
+        forces above what the solver can take for it (solvers.round_off ``rounding_stop``:
+        models without interactions or dashpots, as its floor), else ``stop_hint``'s."""
         hint = ""
-        if aim is not None and not self.model.interactions and self.dashpots is None:
+        if capped:
+            # (the reason names max_iterations: no limit-point hint after it to mislead)
+            hint = (
+                ". The iteration cap stopped it, not a limit point or buckling (those stall "
+                "the ratio)"
+            )
+        if not hint and aim is not None and not self.model.interactions and self.dashpots is None:
             # Judged at the load the user applied (load factor 1), not at the cut increment's
             # (1e-4 N a node cut 8 times is 3.9e-7 N: a stop for another cause, the rounding
             # of the cuts' loads, read as the user's load being too small).

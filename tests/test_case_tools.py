@@ -72,3 +72,93 @@ def test_smooth_on_an_analytic_tool_is_an_unknown_key(tmp_path):
     path.write_text(text)
     with pytest.raises(CaseError, match=r"contact\[0\]\.smooth\]: unknown key"):
         load_case(path)
+
+
+HOLDER = """
+title = "plate between a die and a holder"
+[mesh]
+rectangle = {{ lx = 20.0, ly = 20.0, nx = 2, ny = 2, origin = [0.0, 0.0, 0.5] }}
+[[part]]
+element = "mindlin"
+material = {{ E = 1000.0, nu = 0.3, thickness = 1.0, density = 1e-9 }}
+[[fix]]
+nodes = {{ x_min = 0.0 }}
+dofs = ["ux", "uy"]
+[[contact]]
+tool = "plane"
+point = [0.0, 0.0, 0.0]
+normal = [0.0, 0.0, 1.0]
+[[contact]]
+tool = "plane"
+point = [0.0, 0.0, 1.0]
+normal = [0.0, 0.0, -1.0]
+free = ["z"]
+force = [0.0, 0.0, {force}]
+[solver]
+kind = "{kind}"
+increments = 2
+"""
+
+
+@pytest.mark.parametrize("kind", ["static", "relaxation"])
+def test_a_holder_force_away_from_the_body_is_refused_at_its_file_table_and_key(
+    tmp_path, capsys, kind
+):
+    """The holder (the second [[contact]], its face looking down at the plate) pushed up by
+    10 N, away from the plate: no quasi-static position balances it. Refused before anything
+    runs, as every case-file error, naming the file, [contact[1].force] and the sign to give
+    (before: the solver's text alone, without the file and the key)."""
+    from fibreshell.cli import main
+
+    path = tmp_path / "holder.toml"
+    path.write_text(HOLDER.format(force=10.0, kind=kind))
+    assert main(["run", str(path), "--out", str(tmp_path / "out"), "--quiet"]) == 2
+    said = capsys.readouterr().err
+    assert f"{path}: [contact[1].force]: tool2's force (0, 0, 10) N points away from" in said
+    assert "(0, 0, -10) N" in said
+    with pytest.raises(CaseError, match=r"\[contact\[1\]\.force\]"):
+        load_case(path).model()
+    path.write_text(HOLDER.format(force=-10.0, kind=kind))
+    load_case(path).model()  # towards the plate: taken
+
+
+LAYUP_HOLDER = """
+title = "two plies between a die and a holder"
+[mesh]
+rectangle = { lx = 40.0, ly = 20.0, nx = 4, ny = 2, origin = [0.0, 0.0, 0.15] }
+[[part]]
+element = "fibrous"
+[part.material]
+thickness = 0.3
+areal_density = 2.85e-10
+tension = 60.0
+shear = 0.2
+bending = 0.375
+[layup]
+angles = [0.0, 90.0]
+friction = 0.2
+[[fix]]
+nodes = { y_max = "0%" }
+dofs = ["uy"]
+[[contact]]
+tool = "plane"
+point = [0.0, 0.0, 0.0]
+normal = [0.0, 0.0, 1.0]
+[[contact]]
+tool = "plane"
+point = [0.0, 0.0, 0.6]
+normal = [0.0, 0.0, -1.0]
+free = ["z"]
+force = [0.0, 0.0, 10.0]
+[solver]
+kind = "static"
+"""
+
+
+def test_a_ply_stack_s_holder_force_away_is_named_at_its_own_contact_table(tmp_path):
+    """The stack's ply-on-ply contact comes first among the model's interactions and drives
+    no tool: the holder, the second [[contact]], is still the one named."""
+    path = tmp_path / "plies.toml"
+    path.write_text(LAYUP_HOLDER)
+    with pytest.raises(CaseError, match=r"plies.toml: \[contact\[1\]\.force\]: tool2's force"):
+        load_case(path).model()

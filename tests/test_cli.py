@@ -153,6 +153,68 @@ def test_compare_fit_states_its_rule_before_and_its_fitted_values_before_the_com
     )
 
 
+def test_compare_fit_takes_its_evaluation_cap_and_a_fit_that_reached_it_says_one_thing(
+    capsys, tmp_path, monkeypatch
+):
+    """The cap is an option of the command (--fit-evaluations, compare_case's
+    fit_evaluations), and a fit stopped at it says one true sentence naming it (before: the
+    option did not exist, and identify's "the values are the best evaluated: give more
+    (max_evaluations)" was followed by "The values below are the last evaluated; give the fit
+    more evaluations (fit_evaluations)")."""
+    message = (
+        "stopped at the cap of 12 model evaluations: 12 made, 4 by the optimiser (its next "
+        "step would have passed its share, 8) and 8 for the Jacobian at the end; the values "
+        "are the best evaluated"
+    )
+    fit = {
+        "path": "centre",
+        "residual_rms_mm": 0.12,
+        "evaluations": 12,
+        "success": False,
+        "message": message,
+        "values": {"bending_scale": 1.25, "transverse_shear": 3.5},
+        "confidence_95": {"bending_scale": [1.2, 1.3], "transverse_shear": [3.0, 4.0]},
+    }
+    comparison = {
+        "calibration": {
+            "kinematics": "mindlin",
+            "name": "fit",
+            "rule": "fitted",
+            "numbers": {"fit": fit},
+        },
+        "differences": DIFFERENCES,
+    }
+    given = {}
+    fake = fake_compare(comparison, [])
+
+    def noting(case, out, progress, **options):
+        given.update(options)
+        return fake(case, out, progress, **options)
+
+    monkeypatch.setattr(fibreshell.compare, "compare_case", noting)
+    argv = [
+        "compare",
+        str(STRIP),
+        "--out",
+        str(tmp_path / "c"),
+        "--calibration",
+        "fit",
+        "--fit-evaluations",
+        "12",
+        "--quiet",
+    ]
+    assert main(argv) == 0
+    assert given["fit_evaluations"] == 12
+    said = [line for line in capsys.readouterr().out.splitlines() if "NOT CONVERGED" in line]
+    assert said == [
+        f"  NOT CONVERGED: {message}: give the fit more evaluations "
+        "(fibreshell compare --fit-evaluations)"
+    ]
+    argv = ["compare", str(STRIP), "--out", str(tmp_path / "d"), "--fit-evaluations", "12"]
+    assert main(argv) == 2  # the cap of a fit, without one
+    assert "--fit-evaluations 12 is the cap of --calibration fit" in capsys.readouterr().err
+
+
 def test_compare_without_a_mindlin_run_states_no_calibration_before_its_runs(
     capsys, tmp_path, monkeypatch
 ):

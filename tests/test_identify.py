@@ -157,6 +157,10 @@ def test_the_evaluation_cap_bounds_every_model_evaluation_of_the_fit(dask_schedu
                       scheduler=dask_scheduler, progress=False)  # fmt: skip
     assert result.evaluations <= 7 and result.runs == 2 * result.evaluations
     assert not result.success and "stopped at the cap of 7 model evaluations" in result.message
+    # the message counts what identify.json's "evaluations" counts (before: the cap alone,
+    # beside a count it did not explain), and names no option of its own: the commands do
+    assert f"cap of 7 model evaluations: {result.evaluations} made" in result.message
+    assert "max_evaluations" not in result.message
     with pytest.raises(ValueError, match=r"max_evaluations must be a whole number >= 6 for 1"):
         identify(case, data, {"part.0.material.bending": 0.2}, max_evaluations=3)
 
@@ -344,7 +348,9 @@ def test_a_fit_that_did_not_converge_and_an_interval_through_zero_are_said():
     )  # fmt: skip
     printed = format_result(found).splitlines()
     assert "it reaches zero: the data do not determine this value" in printed[0]
-    assert printed[-1].endswith("NOT CONVERGED: the cap was reached")
+    assert printed[-1].endswith(
+        "NOT CONVERGED: the cap was reached: give the fit more evaluations (--max-evaluations)"
+    )
 
 
 def test_a_singular_value_within_the_jacobian_s_error_is_not_a_determined_combination():
@@ -376,3 +382,48 @@ def test_a_singular_value_within_the_jacobian_s_error_is_not_a_determined_combin
     found = determinacy(linear, linear, np.array([0.01, -0.02, 0.01]), 2)
     assert found.rank == 2 and found.determined.all() and not found.correlated
     assert found.correlation[0, 1] == pytest.approx(-1.0 / np.sqrt(10.0))  # of [[2, 1], [1, 5]]^-1
+
+
+def test_each_response_s_residual_is_said_and_mixed_units_without_sigma_are_warned(
+    dask_scheduler,
+):
+    """The README's overhang series with the density left out of the fit (a review): the
+    strip's case says rho_A = 1e-9 where the data's is 3e-10, and only B is fitted. The tips
+    (mm, tens) outweigh the reactions (N, thousandths) as plain numbers, so the fit follows
+    the tips and its interval looks tight; the reactions are the strip's weight rho_A g L W
+    (closed form, whatever B), so each is off by 1e-9 / 3e-10 - 1 = 7/3 of its measured value
+    and their RMS residual is 7/3 of their measured RMS (to the equilibrium's tolerance: 1e-4).
+    Said per response in the result, identify.json's record and the printout, and warned
+    before any run (before: one RMS residual over both, no warning)."""
+    from validation.references.elastica import heavy_cantilever
+
+    lengths, width, density = [40.0, 80.0], 10.0, 3e-10
+    tips = [-heavy_cantilever(L, density * GRAVITY, 0.1)["tip_deflection"] for L in lengths]
+    weights = [density * GRAVITY * L * width for L in lengths]
+    case = strip(60.0, 4, 0.1, 1e-9)
+    case["solver"]["increments"] = 1
+    data = {"mesh.rectangle.lx": lengths, "displacement_right_z": tips, "reaction_left_z": weights}
+    with pytest.warns(UserWarning, match=r"responses in different units .* reaction_left_z \(N\)"):
+        result = identify(case, data, {"part.0.material.bending": 0.2}, max_evaluations=7,
+                          scheduler=dask_scheduler, progress=False)  # fmt: skip
+    reaction = result.by_response["reaction_left_z"]
+    assert reaction["unit"] == "N"
+    assert reaction["rms"] / reaction["measured_rms"] == pytest.approx(7 / 3, rel=1e-4)
+    assert set(result.as_dict()["residual_rms_by_response"]) == {
+        "displacement_right_z", "reaction_left_z"}  # fmt: skip
+    assert "reaction_left_z " in format_result(result).splitlines()[-2]
+
+
+def test_responses_of_one_unit_or_each_with_its_sigma_are_not_warned():
+    import warnings
+
+    from fibreshell.responses import mixed_units_warning
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        mixed_units_warning(["displacement_right_z", "displacement_tip_z"], {})
+        mixed_units_warning(["displacement_right_z", "reaction_left_z"],
+                            {"displacement_right_z": 0.5, "reaction_left_z": 1e-4})  # fmt: skip
+        mixed_units_warning(["x", "z"], {})
+    with pytest.warns(UserWarning, match="tool2_force_z"):
+        mixed_units_warning(["z", "tool2_force_z"], {})

@@ -316,6 +316,40 @@ def test_an_interrupted_static_run_keeps_its_converged_increments(tmp_path, monk
     assert "a static run has no checkpoint" in capsys.readouterr().err
 
 
+RELAXATION = STATIC.replace('kind = "static"', 'kind = "relaxation"')
+
+
+@pytest.mark.parametrize(
+    "text, stopped_in, call, said",
+    [
+        # an explicit run told to keep no checkpoint, stopped at its 50th step
+        (CASE.replace("damping = 100.0", "damping = 100.0\ncheckpoint = false"),
+         "explicit_step", 50, "no checkpoint asked for ([solver] checkpoint = false)"),
+        # a relaxation stopped at its 20th force evaluation, inside its first increment: its
+        # checkpoint is written as an increment converges, and none has
+        (RELAXATION, "internal_force", 20, "no increment converged yet"),
+    ],
+    ids=["explicit without checkpoint", "relaxation inside its first increment"],
+)  # fmt: skip
+def test_an_interrupt_with_nothing_to_resume_says_why_for_its_solver(
+    tmp_path, monkeypatch, capsys, text, stopped_in, call, said
+):
+    """The line names the reason there is no checkpoint (before: "no checkpoint (static run)"
+    for every solver, also for the explicit and relaxation runs that are not static)."""
+    import femcore.compiled
+
+    owner = solvers.explicit if stopped_in == "explicit_step" else femcore.compiled.CompiledModel
+    case = tmp_path / "case.toml"
+    case.write_text(text)
+    with monkeypatch.context() as patch:
+        signal_on_call(patch, owner, stopped_in, call)
+        assert run(case, tmp_path / "out") == 130
+    line = capsys.readouterr().out
+    assert "INTERRUPTED by SIGINT" in line and said in line and "run it again" in line
+    assert "static" not in line and "--resume" not in line
+    assert json.loads((tmp_path / "out" / "summary.json").read_text())["checkpoint"] is None
+
+
 def test_a_static_run_writes_each_increment_as_it_converges(tmp_path, monkeypatch):
     """A kill (no chance to write at the end) leaves the converged increments: the series
     lists each frame once its increment converged."""

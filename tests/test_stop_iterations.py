@@ -43,3 +43,45 @@ def test_an_attempt_still_searching_its_contact_sets_names_max_iterations():
     assert "unilateral contact law, whose sets may still have been changing" in said
     assert said.endswith("raise max_iterations (it was 50)")
     assert "unilateral" not in iterations_spent(searching, 1e-8, 50)
+
+
+def test_a_short_attempt_still_falling_names_max_iterations():
+    # three iterations from 1 to 0.00135 (the strip below): falling, however few
+    said = iterations_spent([1.0, 0.2, 0.02, 0.00135], 1e-8, 3)
+    assert said.endswith("still falling: raise max_iterations (it was 3)")
+
+
+STRIP = """
+title = "G1151 strip under its own weight"
+[mesh]
+rectangle = { lx = 200.0, ly = 60.0, nx = 8, ny = 2 }
+[[part]]
+element = "fibrous"
+material = "g1151_laminate"
+options = { clamped = "left" }
+[[fix]]
+nodes = "left"
+[gravity]
+acceleration = [0.0, 0.0, -9810.0]
+[solver]
+kind = "static"
+increments = 2
+max_iterations = 3
+max_cuts = 1
+"""
+
+
+def test_a_static_stop_at_the_iteration_cap_names_it_not_a_limit_point(tmp_path, capsys):
+    """The cantilevered strip converges in more than 3 iterations an increment: capped at 3,
+    its ratio still falling, the stop names max_iterations and says the cap stopped it
+    (before: "A limit point or buckling may be near: try path='arc_length'", which sends a
+    user the wrong way)."""
+    from fibreshell.cli import main
+
+    case = tmp_path / "strip.toml"
+    case.write_text(STRIP)
+    assert main(["run", str(case), "--out", str(tmp_path / "out"), "--quiet"]) == 1
+    said = capsys.readouterr().out
+    assert "still falling: raise max_iterations (it was 3)" in said
+    assert "The iteration cap stopped it, not a limit point" in said
+    assert "may be near" not in said and "arc_length" not in said

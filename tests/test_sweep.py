@@ -574,3 +574,30 @@ def test_a_sweep_terminated_by_sigterm_says_which_variants_did_not_end(monkeypat
         rows = list(csv.DictReader(handle))
     said = [(row["converged"], row["error"].split(":")[0]) for row in rows]
     assert said == [("True", ""), ("False", "interrupted"), ("False", "interrupted")]
+
+
+def test_a_sweep_started_with_sigint_ignored_still_stops_on_it(monkeypatch, tmp_path):
+    """A shell starts a background job of a non-interactive script with SIGINT ignored, and
+    Python keeps that: the sweep sets its own handler, as ``fibreshell run`` does, so that
+    SIGINT during the second variant stops it as Ctrl-C does (sweep.csv marks the variants
+    that did not end, the interrupt goes on up: status 130), and the ignoring is given back.
+    Before, the sweep ran on through the signal."""
+
+    def run(data, path, overrides, folder):
+        if overrides["part.0.material.bending"] == 20.0:
+            os.kill(os.getpid(), signal.SIGINT)
+        return {"converged": True, "error": "", "wall_time_s": 1.0}, None
+
+    previous = signal.signal(signal.SIGINT, signal.SIG_IGN)
+    try:
+        monkeypatch.setattr(sweep_module, "run_variant", run)
+        vary = {"part.0.material.bending": [10.0, 20.0, 30.0]}
+        with pytest.raises(KeyboardInterrupt):
+            sweep(cantilever(), vary, out=tmp_path, in_process=True, progress=False)
+        assert signal.getsignal(signal.SIGINT) is signal.SIG_IGN  # given back
+    finally:
+        signal.signal(signal.SIGINT, previous)
+    with open(tmp_path / "sweep.csv") as handle:
+        rows = list(csv.DictReader(handle))
+    said = [(row["converged"], row["error"].split(":")[0]) for row in rows]
+    assert said == [("True", ""), ("False", "interrupted"), ("False", "interrupted")]
