@@ -29,7 +29,16 @@ class ForceAwayFromBody(EntryError):
     a case file's error names the ``[[contact]]`` table and its key (fibreshell/case_model.py).
     """
 
-    key = "force"
+    def __init__(
+        self,
+        kind: str,
+        index: int,
+        reason: str,
+        prefix: str = "",
+        key: str | None = "force",
+        case_reason: str | None = None,
+    ) -> None:
+        super().__init__(kind, index, reason, prefix, key, case_reason)
 
 
 def _vector(v: np.ndarray) -> str:

@@ -564,7 +564,10 @@ class StaticRun:
         self.info["cuts"] += 1
         if cuts + 1 > self.solver.max_cuts:
             reason = f"{what} did not converge after {cuts} cuts ({failure})"
-            capped = still_falling(getattr(failure, "history", []))
+            # (only an attempt that used its max_iterations: a line search that found no
+            # step stops a short attempt whose ratio was falling too)
+            history = getattr(failure, "history", [])  # (the start's ratio, then the updates')
+            capped = len(history) >= self.solver.max_iterations and still_falling(history)
             raise self.failure(reason, aim, capped) from None
         return cuts + 1
 
