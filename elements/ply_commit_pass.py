@@ -32,7 +32,10 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from elements import ply_edge_couple_kernels, ply_load_kernels, ply_penalty
+from elements.ply_edge_couple import END
+from elements.ply_friction_kernels import _kept_mapping
 from elements.ply_friction_pass import _history_compiled
+from elements.ply_wedge import KEEP
 from femcore.jit import lanes
 
 if TYPE_CHECKING:
@@ -164,9 +167,6 @@ def loads_inputs(block: PlyContactBlock, state: State, facing: Facing, bounded: 
     """(``_history_loads``' ``loads`` tuple, force, moment): the loads' inputs at ``state``
     (``facing`` there, ``bounded`` numpy's min(g, 0) of its gaps (P,)) and their outputs,
     (n, 3) each, uninitialised (the pass writes every entry)."""
-    from elements.ply_edge_couple import END
-    from elements.ply_wedge import KEEP
-
     smoothing = block.smoothing
     on = np.flatnonzero(facing.touching)
     # numpy's power, as ply_loads takes it (numpy's min(g, 0) point by point: the same bits)
@@ -203,8 +203,6 @@ def kept_loads(
     """The loads the commit's pass kept for ``history`` (unedited since) at ``facing`` and
     the block's penalties now (``ply_friction_kernels._kept_mapping``'s test), as fresh
     copies (a caller may add into them); None where none serves."""
-    from elements.ply_friction_kernels import _kept_mapping
-
     kept = getattr(block, "_next_loads", None)
     if kept is None or kept[0] is not history or _kept_mapping(block, history, facing) is None:
         return None

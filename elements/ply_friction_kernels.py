@@ -344,7 +344,7 @@ def updated_history(
     if facing.fade is None:
         return ply_friction.updated_history(block, state, history, facing, sides)
     if FUSED:  # the three passes below in one compiled call (ply_friction_pass.py)
-        from elements import ply_commit_pass
+        from elements import ply_commit_pass, ply_projection
         from elements.ply_friction_pass import history_pass
 
         _, y = block._faces(state)
@@ -358,7 +358,7 @@ def updated_history(
         # the next step's loads in the same call (elements/ply_commit_pass.py)
         bounded = np.minimum(facing.gap, 0.0)  # numpy's, for its signed zeros
         made = None
-        if _loads_here():
+        if ply_commit_pass.LOADS_IN_PASS and ply_projection.COMPILED:
             made = ply_commit_pass.loads_inputs(block, state, facing, bounded)
         sliding, moved, following = history_pass(
             block, facing, y, last, kept, leaving, history.sides, select, bounded,
@@ -408,14 +408,6 @@ def updated_history(
     following = _mapped(block, facing, y, triangle, anchor)
     moved = (triangle, anchor, slipped, dissipation)
     return _kept_history(block, history, facing, sides, sliding, moved, following, y)
-
-
-def _loads_here() -> bool:
-    """The next loads are made in the history's pass (``ply_commit_pass.LOADS_IN_PASS``,
-    with the compiled loads: ``ply_projection.COMPILED``)."""
-    from elements import ply_commit_pass, ply_projection
-
-    return ply_commit_pass.LOADS_IN_PASS and ply_projection.COMPILED
 
 
 def _kept_history(
