@@ -32,6 +32,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from elements import ply_edge_couple_kernels, ply_load_kernels, ply_penalty
+from elements.kernel_inputs import read_only
 from elements.ply_edge_couple import END
 from elements.ply_friction_kernels import _kept_mapping
 from elements.ply_friction_pass import _history_compiled
@@ -89,11 +90,13 @@ def _rows(touching, stuck, sliding, flagged, on_edge):
 def _history_loads(history, loads):
     """``_history`` (elements/ply_friction_pass.py) with the arguments ``history`` (its tuple,
     in its order), then the loads from the mapping it made for the next step: ``loads`` is
-    (on (t,) the touching rows, cube (t,) their ramp cubes, fade_gradient (P, 6, 3),
+    (cube (t,) the touching points' ramp cubes, fade_gradient (P, 6, 3),
     fade_edge (P,), smoothing_squared, the block's arrays (``block_arrays``), direction
-    (n, 3), flagged, on_edge (P,), reach (P, 3), keep, end, force, moment (n, 3) written).
-    The couples of the stuck points facing an edge or a vertex by ``_couples``, scattered to
-    zeros at the other rows, as ``ply_loads`` makes them."""
+    (n, 3), flagged, on_edge (P,), reach (P, 3), keep, end, bilateral (False: a bool given,
+    not a literal, for which numba would build ``_loads`` again), force, moment (n, 3)
+    written). Each input of the type the chained calls hand the kernels (kernel_inputs.py):
+    one build of each. The couples of the stuck points facing an edge or a vertex by
+    ``_couples``, scattered to zeros at the other rows, as ``ply_loads`` makes them."""
     _history_compiled(*history)
     (
         touching, gap, stiffness, smoothing, fade, _, _, _, _, _, _, face, normal, y, _,
@@ -107,7 +110,7 @@ def _history_loads(history, loads):
     (
         cube, fade_gradient, fade_edge, smoothing_squared, shape, above, cells, upper_offset,
         corner_offset, lever, outline_nodes, outline_offsets, lines, far, cut, direction,
-        flagged, on_edge, reach, keep, end, force, moment,
+        flagged, on_edge, reach, keep, end, bilateral, force, moment,
     ) = loads  # fmt: skip
     on, rows, plane, at = _rows(touching, next_stuck, next_sliding, flagged, on_edge)
     if at.shape[0]:
@@ -127,7 +130,7 @@ def _history_loads(history, loads):
         on, cube, gap, normal, weights, triangle, fade, fade_gradient, fade_edge, stiffness,
         smoothing, smoothing_squared, shape, above, cells, upper_offset, corner_offset, lever,
         direction, outline_nodes, outline_offsets, rows, next_triangle, next_force, anchor,
-        next_lift, next_stored, plane, next_offset, gradients, turn, False, force, moment,
+        next_lift, next_stored, plane, next_offset, gradients, turn, bilateral, force, moment,
     )  # fmt: skip
 
 
@@ -185,12 +188,13 @@ def loads_inputs(block: PlyContactBlock, state: State, facing: Facing, bounded: 
         float(smoothing**2),
         *fixed[:8],
         *fixed[8:],
-        block.offset_directions(state),
+        read_only(block.offset_directions(state)),  # as ply_loads hands it: one build
         flagged,
         np.ascontiguousarray(flags if flagged else np.zeros(0), dtype=np.bool_),
-        np.ascontiguousarray(reach, dtype=float),
+        read_only(reach),  # as edge_couples hands it
         float(KEEP),
         float(END),
+        False,  # the ramp (not the frozen set's bilateral law), a bool as ply_loads gives it
         force,
         moment,
     )
