@@ -19,15 +19,16 @@ compiled ones (the largest difference relative to the largest force).
 Measured (one thread, 2 cores shared with a dozen other jobs, load 13), Mindlin [0/90] steps
 8000-8300, us a block-step, history + loads: chained 273.9 + 74.0 = 347.9, loads in the pass
 309.7 + 17.3 = 327.0 (x 1.064), the numpy reference 2244.7 + 869.2 = 3113.9 (its first 30
-steps); the same digest 51091b0b620e5d25, the numpy reference's loads equal to the compiled
-ones (0 difference). At one state of that window (step 8050's upper pass, 182 of 384 points
-touching; best of 80 x 10 calls, load 15): the history's pass 29.3 us alone, 56.4 with the
-loads (their inputs 7.9 of it: the touching rows, numpy's ramp cubes, the arrays' checks);
-the loads' own call 33.2 (their kernel about 19, the rest its masks, conversions and
-arguments), ``internal_force`` served the kept loads 6.1 (the held facing, the landing's
-masks, the kept mapping's test and two copies). The loads' kernel moves to the commit; what
-is saved is their call's Python round it, less the inputs the pass now takes: about 4-10 us a
-block-step, 20 at that load.
+steps); again at load 12: 296.3 + 77.5 = 373.9 against 325.2 + 16.6 = 341.8 (x 1.094), the
+numpy reference 2935.5; the same digest 51091b0b620e5d25 each time, the numpy reference's
+loads equal to the compiled ones (0 difference). At one state of that window (step 8050's
+upper pass, 182 of 384 points touching; best of 80 x 10 calls, load 15): the history's pass
+29.3 us alone, 56.4 with the loads (their inputs 7.9 of it: the touching rows, numpy's ramp
+cubes, the arrays' checks); the loads' own call 33.2 (their kernel about 19, the rest its
+masks, conversions and arguments), ``internal_force`` served the kept loads 6.1 (the held
+facing, the landing's masks, the kept mapping's test and two copies). The loads' kernel moves
+to the commit; what is saved is their call's Python round it, less the inputs the pass now
+takes: about 4-10 us a block-step, 20 at that load.
 """
 
 from __future__ import annotations
