@@ -64,6 +64,15 @@ calls replayed 0.97 of their time, the same bits).
 
 Measured (this script, best of 2-4, one thread, nice 5):
 
+* the next step's ply loads made in the committed history's pass (elements/ply_commit_pass.py
+  ``LOADS_IN_PASS``, the same bits): ``--toggle`` (every 50 steps, one thread, 2 cores shared
+  with a dozen other jobs) Mindlin [0/90] steps 2000-6000 1.1607 -> 1.1137 ms a step (0.959,
+  load 11-12), 12000-20000 1.5341 -> 1.5062 (0.982, load 12-14), fibrous [0/90] steps
+  500-4000 1.7384 -> 1.6828 (0.968, load 10-11): 28-56 us a step. The case's results.json
+  (``python -m validation --cases hemisphere-plies --jobs 1`` from this tree and from
+  432e668b, side by side from empty numba caches, load 12-22) the same in its 491 entries but
+  the 19 times and the stamp;
+
 * the facing's choice made in the front's call (elements/ply_facing_front.py ``CHOSEN``;
   98 % of the fibrous run's new facings, all but 4 of 10000 of the Mindlin run's first 5000
   steps, the rest refreshes and new epochs): ``--toggle`` (every 50 steps, load 4.5-5.9)

@@ -18,6 +18,7 @@ from scipy.spatial import cKDTree
 from elements import (
     ply_between,
     ply_block_tangent,
+    ply_commit_pass,
     ply_curved,
     ply_curved_friction,
     ply_face_points,
@@ -235,6 +236,8 @@ class PlyContactBlock(InteractionBlock):
         # the friction's return mapping from the history last committed, at its state, which
         # the next loads take (elements/ply_friction_kernels.py ``updated_history``)
         self._next_sliding: tuple | None = None
+        # the next loads made with that mapping (elements/ply_commit_pass.py ``kept_loads``)
+        self._next_loads: tuple | None = None
         self._held_at: tuple | None = None  # the last facing held by sides (ply_sides.py)
         # the probes of the plies between a pair that are not neighbours, each the same
         # points on one of them (``PlyContact.bind``, elements/ply_between.py); none: a pair of
@@ -578,6 +581,11 @@ class PlyContactBlock(InteractionBlock):
             if not self._frictional(history):  # (law: a frozen active set's, ply_active_set.py)
                 law = getattr(facing, "law", "ramp")
                 return ply_load_kernels.ply_loads(self, state, facing, law=law)
+            # made in the commit's history pass where it served this history and facing
+            # (elements/ply_commit_pass.py: the same bits)
+            kept = ply_commit_pass.kept_loads(self, history, facing)
+            if kept is not None:
+                return kept
             sliding = self.friction_state(state, history, facing)
             return ply_load_kernels.ply_loads(self, state, facing, sliding, history.anchor)
         if self.curved:

@@ -344,6 +344,7 @@ def updated_history(
     if facing.fade is None:
         return ply_friction.updated_history(block, state, history, facing, sides)
     if FUSED:  # the three passes below in one compiled call (ply_friction_pass.py)
+        from elements import ply_commit_pass, ply_projection
         from elements.ply_friction_pass import history_pass
 
         _, y = block._faces(state)
@@ -354,12 +355,19 @@ def updated_history(
         compiled = ply_departure_kernels.COMPILED
         select = compiled and SELECT_IN_PASS
         leaving = ply_departure.leaving(block, history, facing) if compiled and not select else None
+        # the next step's loads in the same call (elements/ply_commit_pass.py)
+        bounded = np.minimum(facing.gap, 0.0)  # numpy's, for its signed zeros
+        made = None
+        if ply_commit_pass.LOADS_IN_PASS and ply_projection.COMPILED:
+            made = ply_commit_pass.loads_inputs(block, state, facing, bounded)
         sliding, moved, following = history_pass(
-            block, facing, y, last, kept, leaving, history.sides, select=select
-        )
+            block, facing, y, last, kept, leaving, history.sides, select, bounded,
+            None if made is None else made[0],
+        )  # fmt: skip
         return _kept_history(
-            block, history, facing, sides, sliding, moved, following, y, departed=compiled
-        )
+            block, history, facing, sides, sliding, moved, following, y, departed=compiled,
+            loads=None if made is None else made[1:],
+        )  # fmt: skip
     sliding = friction_state(block, state, history, facing)
     _, y = block._faces(state)
     count = len(block.above)
@@ -402,19 +410,24 @@ def updated_history(
     return _kept_history(block, history, facing, sides, sliding, moved, following, y)
 
 
-def _kept_history(block, history, facing, sides, sliding, moved, following, y, departed=False):
+def _kept_history(
+    block, history, facing, sides, sliding, moved, following, y, departed=False, loads=None
+):
     """The new history from ``moved`` (triangle, anchor, slipped, dissipation) and the
     mapping ``sliding``'s pressing, the points that left the face (at the lower corners ``y``)
     given their slip up to where they left (elements/ply_departure.py), the dissipation
     summed by numpy (``departed``: those records already written by the pass);
     ``following``, the mapping from it, kept on the block for the next step's loads (module
-    docstring), as long as the facing and the penalties are these."""
+    docstring), as long as the facing and the penalties are these; with it the next loads
+    (force, moment) (n, 3) the pass made from it, where given (``loads``;
+    elements/ply_commit_pass.py), or None."""
     triangle, anchor, slipped, dissipation = moved
     if not departed:
         _departures(block, y, history, facing, sliding.pressing, slipped, dissipation)
     dissipated = history.dissipated + float(np.sum(dissipation))
     updated = PlyFrictionHistory(triangle, anchor, slipped, sliding.pressing, dissipated, sides)
     block._next_sliding = (updated, facing, _law(block), following, _bits(updated))
+    block._next_loads = None if loads is None else (updated, *loads)
     return updated
 
 

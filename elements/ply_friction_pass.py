@@ -141,6 +141,8 @@ def history_pass(
     leaving: np.ndarray | None = None,
     sides: PlySides | None = None,
     select: bool = False,
+    bounded: np.ndarray | None = None,
+    loads: tuple | None = None,
 ) -> tuple[Sliding, tuple[np.ndarray, ...], Sliding]:
     """The friction's history pass of a flat ply contact block at a facing (module
     docstring).
@@ -164,6 +166,12 @@ def history_pass(
         The pass chooses those points itself (``ply_departure.leaving``'s rule and
         ``beside_growth``'s flags, the same rows), from ``sides``; ``leaving`` is then not
         read (a step where none leaves pays no numpy mask).
+    bounded : (P,) float or None
+        numpy's min(g, 0) of the facing's gaps, mm, where the caller has it (None: made here).
+    loads : tuple or None
+        The next step's loads' inputs and outputs (elements/ply_commit_pass.py
+        ``loads_inputs``, made with ``bounded``): the loads are then written in the same call,
+        from the mapping it makes for them (None: the history alone).
 
     Returns
     -------
@@ -204,18 +212,25 @@ def history_pass(
     # the rows beside a growth's edge: their slip across the gap's normal (ply_departure.py)
     aside = ply_departure.beside_growth(facing, leaving)
     flag = block.stick != "penalty"  # the normal law's spring and potential (flat faces)
+    if bounded is None:  # numpy's, for its signed zeros (ply_penalty.py)
+        bounded = np.minimum(facing.gap, 0.0)
     # each input of the type ``_mapped`` and ``updated_history`` hand their kernels
-    _history_compiled(
+    arguments = (
         read_only(facing.touching, np.bool_), read_only(facing.gap), writable(block.stiffness),
-        float(block.smoothing), read_only(facing.fade),
-        np.minimum(facing.gap, 0.0),  # numpy's, for its signed zeros (ply_penalty.py)
-        flag, flag, float(block.friction), writable(last_triangle, np.int64),
-        writable(last_anchor), read_only(facing.face), read_only(facing.normal), read_only(y),
-        fresh, read_only(facing.triangle, np.int64), read_only(facing.weights),
+        float(block.smoothing), read_only(facing.fade), bounded, flag, flag,
+        float(block.friction), writable(last_triangle, np.int64), writable(last_anchor),
+        read_only(facing.face), read_only(facing.normal), read_only(y), fresh,
+        read_only(facing.triangle, np.int64), read_only(facing.weights),
         read_only(facing.gradients), writable(last_slip), writable(last_pressing), *mapped,
         *moved, *following, writable(leaving, np.int64), read_only(before), read_only(then),
         writable(aside, np.bool_), np.empty(len(leaving)), ply_landing.TILT, select, chosen,
         flagged, *(read_only(f, np.bool_) if flagged else _NO_FLAGS for f in edge_flags),
     )  # fmt: skip
+    if loads is None:
+        _history_compiled(*arguments)
+    else:  # the next loads in the same call (elements/ply_commit_pass.py)
+        from elements.ply_commit_pass import _history_loads
+
+        _history_loads(arguments, loads)
     sliding = Sliding(*mapped) if kept is None else kept
     return sliding, moved, Sliding(*following)
