@@ -28,12 +28,15 @@ import numpy as np
 __all__ = [
     "CYCLE_SWITCHES",
     "FRICTION_AT_START",
+    "FRICTION_LATER",
+    "STEP_LOADS_RAMPED",
     "crossing_cycles",
     "describe_cycles",
     "held_by_friction_alone",
     "iterations_spent",
     "neutral_hint",
     "stop_hint",
+    "steps_ramped_with_others",
     "still_falling",
 ]
 
@@ -147,6 +150,34 @@ FRICTION_AT_START = (
     "Static(step_loads_first=True))"
 )
 
+#: Said after ``FRICTION_AT_START`` where that body's loads mix "step" ones with ramped ones
+#: (``steps_ramped_with_others``) and Static ramps them together (not step_loads_first): a
+#: press at amplitude "step" and a pull ramped with it keep their ratio at every load factor,
+#: so a pull past mu times the press at load factor 1 is past it at the first increment too,
+#: and no increment has an equilibrium (a ply pressed by 1 N at "step", pulled linearly to
+#: 0.31 N on a floor of mu 0.3: the contact's press at load factor 0.1 was 0.1 N, its
+#: friction at most 0.03 N against a pull of 0.031 N). Held whole from the first increment
+#: (a callable amplitude of 1, or the press first), the same ply converges up to load factor
+#: 0.967, where the pull reaches mu times the press (docs/theory.md §6.5).
+STEP_LOADS_RAMPED = (
+    "; Static ramps its 'step' loads with the load factor too unless "
+    "step_loads_first=True, so a press at amplitude 'step' and a pull ramped with it keep "
+    "their ratio at every load factor: a pull past mu times the press at load factor 1 is "
+    "past it from the first increment. To hold the press whole from the first increment, "
+    "give it a callable amplitude (amplitude=lambda load_factor: 1.0) or solve with "
+    "Static(step_loads_first=True)"
+)
+
+#: Said where a solve stopped after converged increments and a body is held by friction alone
+#: (``held_by_friction_alone``): its pull may have reached mu times its press there, past
+#: which it slides and no quasi-static solver finds a state (``FRICTION_AT_START``'s reason);
+#: not the press-first advice, which a converged increment no longer needs.
+FRICTION_LATER = (
+    "; a body held by friction alone has no static equilibrium once its pull passes mu times "
+    "its press: if it reached that here, it slides, which no quasi-static solver (Static, "
+    "DynamicRelaxation) can find, and only an explicit run (CentralDifference) follows"
+)
+
 
 def neutral_hint(factor) -> str:
     """The cause of a stop whose last tangent ``factor`` (solvers.linear.Factorisation, or
@@ -180,9 +211,10 @@ def stop_hint(
     cycles of ``describe_cycles`` when there are some, else ". " and the contacts' hint on a
     model with interactions (with ``FRICTION_AT_START`` where it stopped ``at_start``, before
     any increment converged, not ``step_loads_first``, and a body is held by friction alone:
-    ``held_by_friction_alone``),
-    else the generic hint of a limit point or buckling for the solver's ``path`` ("load" or
-    "arc_length")."""
+    ``held_by_friction_alone``; then with ``STEP_LOADS_RAMPED`` where its "step" loads are
+    ramped with others, ``steps_ramped_with_others``; ``FRICTION_LATER`` where such a body's
+    solve stopped after converged increments), else the generic hint of a limit point or
+    buckling for the solver's ``path`` ("load" or "arc_length")."""
     cause = describe_cycles(model, positions)
     if cause:
         return f"; {cause}"
@@ -195,7 +227,11 @@ def stop_hint(
             "slides within an increment can stop Newton; try more increments"
         )
         if at_start and not step_loads_first and held_by_friction_alone(model):
-            return hint + FRICTION_AT_START  # (no relaxation finds a slide's state either)
+            # (no relaxation finds a slide's state either)
+            ramped = STEP_LOADS_RAMPED if steps_ramped_with_others(model) else ""
+            return hint + FRICTION_AT_START + ramped
+        if not at_start and held_by_friction_alone(model):
+            return hint + FRICTION_LATER
         return hint + (
             ", or DynamicRelaxation (path='arc_length' follows a limit point or buckling, not "
             "a contact's events)"
@@ -206,6 +242,20 @@ def stop_hint(
         else "try smaller increments or DynamicRelaxation"
     )
     return f". A limit point or buckling may be near: {remedy}"
+
+
+def steps_ramped_with_others(model: Any) -> bool:
+    """Whether the loads of ``model`` (a CompiledModel) with a named amplitude mix "step"
+    ones (full at any positive progress) with ramped ones or prescribed displacements, which
+    Static without step_loads_first scales together by its load factor
+    (``STEP_LOADS_RAMPED``; solvers.static.Static.loads)."""
+    full, _ = model.external_load(1.0, quasi_static=True, user=False)
+    step, _ = model.external_load(1e-300, quasi_static=True, user=False)
+    imposed = model.prescribed_displacement(1.0, quasi_static=True, user=False)
+    size = max(float(np.abs(full).max(initial=0.0)), 1e-300)
+    stepped = float(np.abs(step).max(initial=0.0)) > 1e-9 * size
+    ramped = float(np.abs(full - step).max(initial=0.0)) > 1e-9 * size
+    return stepped and (ramped or bool(np.abs(imposed).max(initial=0.0) > 0.0))
 
 
 def held_by_friction_alone(model: Any) -> bool:

@@ -9,13 +9,23 @@ a body is so held: the loads push it along a translation no support holds."""
 from types import SimpleNamespace
 
 import numpy as np
+import pytest
 
 from elements import MindlinShell, RigidPlane
 from elements.layup import Layup
 from femcore import Mesh, Model
 from femcore.interaction import InteractionBlock
 from materials import ElasticShell, Fabric
-from solvers.stop_diagnosis import FRICTION_AT_START, held_by_friction_alone, stop_hint
+from solvers import Static
+from solvers.common import ConvergenceError
+from solvers.stop_diagnosis import (
+    FRICTION_AT_START,
+    FRICTION_LATER,
+    STEP_LOADS_RAMPED,
+    held_by_friction_alone,
+    steps_ramped_with_others,
+    stop_hint,
+)
 
 
 class _Tie(InteractionBlock):
@@ -98,3 +108,63 @@ def test_a_body_held_by_friction_alone_is_not_sent_to_a_quasi_static_solver():
     hint = stop_hint(model, None, "load", at_start=True)
     assert "DynamicRelaxation (" not in hint and "or DynamicRelaxation" not in hint
     assert "only an explicit run (CentralDifference)" in hint
+
+
+def _ply_pressed_and_pulled(press_amplitude) -> Model:
+    """The review's ply: a Mindlin ply 20 x 10 mm (4 x 2 cells) laid on a floor of mu 0.3,
+    pressed by dead forces totalling 1 N at ``press_amplitude``, its right edge pulled along
+    x by 0.4 N ramped linearly, past mu times the press (0.3 N)."""
+    thickness = 0.5
+    mesh = Mesh.rectangle(20.0, 10.0, nx=4, ny=2, origin=(0.0, 0.0, 0.5 * thickness))
+    model = Model(mesh)
+    model.add(MindlinShell(ElasticShell(E=1e4, nu=0.3, thickness=thickness, density=1e-9)))
+    model.contact(RigidPlane((0.0, 0.0, 0.0), (0.0, 0.0, 1.0)), friction=0.3)
+    count = len(mesh.points)
+    model.force(np.arange(count), (0.0, 0.0, -1.0 / count), amplitude=press_amplitude)
+    right = np.flatnonzero(mesh.points[:, 0] > 20.0 - 1e-9)
+    model.force(right, (0.4 / len(right), 0.0, 0.0), amplitude="linear")
+    return model
+
+
+def test_a_step_press_ramped_with_its_pull_is_said_to_keep_their_ratio():
+    # The review's case: a press at amplitude "step" and a pull ramped linearly past mu times
+    # it stopped Static at load factor 0 with the advice to press "at amplitude 'step'",
+    # which the press was: Static ramps "step" loads too without step_loads_first, so the
+    # pull passes mu times the press at every load factor.
+    model = _ply_pressed_and_pulled("step").compile()
+    assert steps_ramped_with_others(model)
+    hint = stop_hint(model, None, "load", at_start=True)
+    assert hint.endswith(FRICTION_AT_START + STEP_LOADS_RAMPED)
+    assert "amplitude=lambda load_factor: 1.0" in hint
+    # all loads at "step" (the plate under its weight, pulled at "step"): nothing to say
+    plate = _plate_on_a_rough_floor(clamped=False).compile()
+    assert not steps_ramped_with_others(plate)
+    assert STEP_LOADS_RAMPED not in stop_hint(plate, None, "load", at_start=True)
+
+
+def test_a_stop_after_converged_increments_of_a_body_held_by_friction_alone_says_it_slides():
+    model = _ply_pressed_and_pulled("step").compile()
+    hint = stop_hint(model, None, "load", at_start=False)
+    assert hint.endswith(FRICTION_LATER) and FRICTION_AT_START not in hint
+    assert "or DynamicRelaxation (" not in hint
+    held = _plate_on_a_rough_floor(clamped=True).compile()
+    assert FRICTION_LATER not in stop_hint(held, None, "load", at_start=False)
+
+
+def test_the_press_held_whole_the_ply_slides_where_its_pull_reaches_mu_times_the_press():
+    # Coulomb: the ply sticks while the pull 0.4 lambda N stays within mu N = 0.3 N, up to
+    # lambda = 0.75, and has no static equilibrium past it (the load factor 1 increment and
+    # its cuts fail; with max_cuts=1 the last converged is 0.75, where the pull is mu N).
+    # The press at a callable amplitude of 1 is whole from the first increment; at "step"
+    # it ramps with the pull and the stop comes at load factor 0 (both ratios 0.4 / 1 > mu).
+    held_whole = _ply_pressed_and_pulled(lambda load_factor: 1.0)
+    with pytest.raises(ConvergenceError) as stop:
+        Static(increments=4, max_cuts=1, progress=False).solve(held_whole)
+    frames = [frame.load_factor for frame in stop.value.result.frames]
+    assert frames == pytest.approx([0.0, 0.25, 0.5, 0.75])
+    assert str(stop.value).endswith(FRICTION_LATER + ".")
+    ramped = _ply_pressed_and_pulled("step")
+    with pytest.raises(ConvergenceError) as stop:
+        Static(increments=4, max_cuts=1, progress=False).solve(ramped)
+    assert [frame.load_factor for frame in stop.value.result.frames] == [0.0]
+    assert str(stop.value).endswith(FRICTION_AT_START + STEP_LOADS_RAMPED + ".")
