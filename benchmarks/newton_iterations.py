@@ -282,18 +282,34 @@ from solvers import Static, round_off  # noqa: E402
 from validation import specimens  # noqa: E402
 from validation.references.elastica import peirce_overhang  # noqa: E402
 
-VARIANTS = (("default", {}), ("predictor=True", {"predictor": True}))
+VARIANTS = (
+    ("default", {}),
+    ('correction="whole" (the solver before the fitted share)', {"correction": "whole"}),
+    ("predictor=True", {"predictor": True}),
+)
 
 
 def tail_orders(history: list[float]) -> list[float]:
     """log(r_k+1) / log(r_k) of the decreasing steps of a residual-ratio history from
-    r_k <= 0.1 whose r_k+1 is above 3e-8, clear of the round-off floor (as
-    tests/test_newton_orders.py measures them)."""
+    r_k <= 0.1 whose r_k+1 is above 3e-8, clear of the round-off floor (the measure
+    tests/test_newton_orders.py took before the fitted share of the curved correction; it
+    now reads the last step of each increment from r_k >= 1e-6, ``closing_order``)."""
     return [
         math.log(after) / math.log(before)
         for before, after in zip(history[:-1], history[1:])
         if before <= 0.1 and 3e-8 < after < before
     ]
+
+
+def closing_order(history: list[float]) -> float | None:
+    """log(r_k+1) / log(r_k) of the last decreasing step of a residual-ratio history from
+    1e-6 <= r_k <= 0.1 (as tests/test_newton_orders.py measures it); None where none."""
+    orders = [
+        math.log(after) / math.log(before)
+        for before, after in zip(history[:-1], history[1:])
+        if 1e-6 <= before <= 0.1 and after < before
+    ]
+    return orders[-1] if orders else None
 
 
 def _tip_loaded(length, width, young, cells, across, amplitude):
@@ -524,11 +540,15 @@ def main(argv=None) -> None:
             histories = info["residual_history"]
             first = [f"{history[1]:.1g}" for history in histories if len(history) > 1]
             orders = [f"{order:.2f}" for history in histories for order in tail_orders(history)]
+            closing = [closing_order(history) for history in histories]
+            last = ", ".join("-" if order is None else f"{order:.2f}" for order in closing)
             tip = result.positions[mesh.nodes("right")].mean(axis=0)
             print(
                 f"  {variant}: iterations {info['iterations_per_increment']}, cuts "
                 f"{info['cuts']}, first-iterate ratios [{', '.join(first)}], tail orders "
-                f"[{', '.join(orders)}], {info['evaluations']['tangent']} tangents, "
+                f"[{', '.join(orders)}], closing orders [{last}], "
+                f"{info['evaluations']['tangent']} tangents, {info['evaluations']['residual']} "
+                f"forces, {info['mode_searches']} mode searches, "
                 f"{best:.2f} s CPU, tip x {tip[0]:.6f} z {tip[2]:.6f} mm, load "
                 f"{os.getloadavg()[0]:.1f}"
             )
