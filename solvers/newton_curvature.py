@@ -34,7 +34,10 @@ the same equilibria. Not on models with a block that offers the compression-free
 (the fibrous shell): there the residual is ruled by the fibres' tension, and the fit of its
 norm cost iterations (Peirce's strip without the level projection 9-9-10 -> 9-25-6) and
 stopped the imperfect fibrous column of tests/test_compression_free_tangent.py at load factor
-0.667; the fibrous models take the whole correction, as before.
+0.667; the fibrous models take the whole correction, as before. Nor with interactions (the
+curved steps of ``Static(curved_with_contact=True)``): the Mindlin plies of
+validation/cases/plies_deck_of_cards.py took 924 Newton iterations with the share fitted
+against 882 with the whole correction, the same results to 1e-9.
 
 On by default (``Static(correction="fitted")``); ``correction="whole"`` takes the whole
 correction, the solver before. The tests that were written on the whole correction's iterates
@@ -141,7 +144,7 @@ def curved_step(
     if scaled_norm(correction, size) > CURVATURE_LIMIT * scaled_norm(delta, size):
         return None
     run.info["curved_steps"] += 1
-    fitted = run.solver.correction == "fitted"
+    fitted = run.solver.correction == "fitted" and not model.interactions
     if not fitted or any(block.compression_free_tangent for block in model.blocks):
         return delta + correction
     return delta + correction_scale(equilibrium, state, frames, delta, correction) * correction

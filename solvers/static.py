@@ -203,8 +203,9 @@ class Static:
         "Curved steps"). The whole correction overshot on the first update of the Mindlin
         cantilevers' increments, into a compressed, indefinite iterate: the 2560-triangle
         strip of benchmarks/kratos_cantilever.py 4-5-5-5-4 -> 5-4-4-4-4 iterations and no
-        mode search, the elastica 4-6-5-4-4 -> 4-4-4-4-4. Models with a fibrous block take
-        the whole correction either way (the fit cost iterations there).
+        mode search, the elastica 4-6-5-4-4 -> 4-4-4-4-4. Models with a fibrous block or with
+        interactions (``curved_with_contact``) take the whole correction either way (the fit
+        cost iterations there: the plies of plies-deck-of-cards 882 -> 924).
     curved_with_contact : the curved steps also with interactions that keep no contact sets
         and no history, whose forces the gaps alone decide (the plies' frictionless contact,
         elements/ply_contact.py; not with friction; needs ``curved``; default False;
