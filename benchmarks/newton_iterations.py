@@ -251,11 +251,20 @@ within one iteration an increment of the default's, 1.0 worse. The kept tangent
 (solvers/kept_tangent.py): the Mindlin lines' Newton tangents elastica 23 -> 19, roll-up 18 ->
 15, cantilever 23 -> 19, Peirce MindlinShell(fabric) 14 -> 12, the same iterations and
 positions to the bit; the fibrous lines unchanged (their folds are history a commit renews).
-Since, an option off by default (solvers/newton_curvature.py ``LEAST_SCALE = 0.25``,
-``correction_scale``): the share of w fitted at each curved step, the least of the parabola
-through ||r||^2 at a = 0, 1/2, 1 within [0.25, 1]: elastica 4-4-4-4-4, roll-up 5-4-4-4,
-cantilever 5-4-4-4-4 (17 tangents, no mode search), MindlinShell(fabric) 5-5-4; not on
-fibrous models (docs/theory.md §6.5, "Curved steps").
+Since, the default (``Static(correction="fitted")``; the line ``correction="whole"`` is the
+solver before, solvers/newton_curvature.py ``correction_scale``): the share of w fitted at
+each curved step, the least of the parabola through ||r||^2 at a = 0, 1/2, 1 within
+[0.25, 1]: elastica 4-4-4-4-4 (16 tangents, 107 forces, no mode search; whole 4-6-5-4-4, 19,
+66, 5 mode searches), roll-up 5-4-4-4 (14, 91, none; whole 5-4-5-4, 15, 48, 4), cantilever
+5-4-4-4-4 (17 tangents, no mode search), MindlinShell(fabric) 5-5-4 (12 tangents, 62 forces;
+whole 4-5-5, 12, 39); not on fibrous models, nor with interactions (docs/theory.md §6.5,
+"Curved steps"). CPU, best of 5 alternated in one process (load 10): elastica 0.035 against
+0.061 s, roll-up 0.031 against 0.048 s; MindlinShell(fabric) 0.045 against 0.044 s (best of
+4). The first variant of each line here carries the line's first-call costs at --repeat 1.
+The closing orders (the last step of each increment from a ratio >= 1e-6, as
+tests/test_newton_orders.py reads them): elastica 1.72-3.67 (whole 1.83-5.04), roll-up
+1.67-1.77 (1.72-2.65); the tail orders of the elastica with the share, 1.04-1.61, are those of
+the step after the second iterate (module docstring of tests/test_newton_orders.py).
 
 Run: python benchmarks/newton_iterations.py [--repeat 3] [--skip-large] [--levels-only]
 [--no-coloured]
