@@ -58,7 +58,7 @@ beside its reference pass (every tangent assembled, 23 + 5) at 1.19 s, Kratos 6.
 the two Static passes alternated 8 times in one process (load 17.3): best 1.001 / 1.054 s,
 median 1.050 / 1.101 s (0.95 x), so 6.1-6.4 x on Kratos's 6.40 s. The tips as before
 (0.0027 % apart, both within 0.004 % of the elastica). With the curved correction's share
-fitted as well (solvers/newton_curvature.py ``LEAST_SCALE = 0.25``, off by default: the whole
+fitted as well (solvers/newton_curvature.py ``LEAST_SCALE = 0.25``, then off by default: the whole
 correction compressed the strip at each increment's first update, 8-14 negative pivots and a
 mode search there), side by side in one run (best of 3, load ~16): Static 1.08 s CPU in
 4-5-5-5-4 iterations (19 + 5 tangents), its reference pass (every tangent assembled) 1.15 s
@@ -66,6 +66,14 @@ mode search there), side by side in one run (best of 3, load ~16): Static 1.08 s
 Kratos 6.72 s CPU in 7-8-7-7-6: 6.2 x on CPU time by default (5.8 x the reference pass, 10.0
 x with the share fitted); wall times 3.36 / 8.27 / 3.67 s against 30.66 at that load. An
 earlier run with the share on in the default row: 0.74 s against Kratos's 6.66 (9.0 x).
+
+The share fitted by default since (``Static(correction="fitted")``; the reference pass is
+``correction="whole"``, the solver before), side by side in one run (best of 3, one thread,
+load 9-11): Static 0.66 s CPU in 5-4-4-4-4 iterations (17 + 5 tangents), its reference pass
+1.22 s in 4-5-5-5-4 (19 + 5), the whole correction with every tangent assembled 1.20 s
+(23 + 5), chords=4 0.66 s in 4-4-4-4-4 (16 + 5), Kratos 6.46 s CPU in 7-8-7-7-6: 9.8 x on
+CPU time (5.3 x for the reference pass); wall 3.31 / 9.79 / 5.34 / 2.30 s against 22.11 s at
+that load. The tips the same (0.0027 % from Kratos's, within 0.004 % of the elastica).
 
 Run: python benchmarks/kratos_cantilever.py [--repeats 3]
 """
@@ -109,20 +117,17 @@ def _strip():
 
 
 def static_solve(
-    repeats: int, chords: int | None = None, before: bool = False, share: float | None = None
+    repeats: int, chords: int | None = None, before: bool = False, correction: str = "fitted"
 ) -> dict:
     """Static on the strip: best wall time of ``repeats`` solves, iterations, tip drop;
     ``chords``: Static's chord corrections per step (None: its default); ``before``: the
     solver before the kept tangent (every tangent assembled, solvers.kept_tangent
-    ``REUSE``): the reference pass; ``share``: the least share of the curved correction
-    fitted at each curved step (solvers.newton_curvature ``LEAST_SCALE``; None: the whole
-    correction, the default)."""
+    ``REUSE``); ``correction``: Static's share of the curved correction ("fitted", the
+    default, or "whole", the solver before it: the reference pass)."""
     from dataclasses import replace
 
-    from solvers import Static, kept_tangent, newton_curvature
+    from solvers import Static, kept_tangent
     from solvers.convergence import Equilibrium
-
-    least = newton_curvature.LEAST_SCALE
 
     _, model, tip, load, drop = _strip()
     compiled = model.compile()
@@ -132,11 +137,12 @@ def static_solve(
         started, cpu_started = time.perf_counter(), time.process_time()
         options = {} if chords is None else {"chords": chords}
         kept_tangent.REUSE = not before
-        newton_curvature.LEAST_SCALE = share
         try:
-            result = Static(increments=INCREMENTS, progress=False, **options).solve(compiled)
+            result = Static(
+                increments=INCREMENTS, correction=correction, progress=False, **options
+            ).solve(compiled)
         finally:
-            kept_tangent.REUSE, newton_curvature.LEAST_SCALE = True, least
+            kept_tangent.REUSE = True
         best = min(best, time.perf_counter() - started)
         cpu = min(cpu, time.process_time() - cpu_started)
     assert result is not None
@@ -298,13 +304,14 @@ def main(argv=None) -> None:
     rows = [
         ("fibreshell Static (MindlinShell)", ours),
         (
-            "fibreshell Static (MindlinShell), before (reference pass: every tangent assembled)",
-            static_solve(args.repeats, before=True),
+            "fibreshell Static (MindlinShell), before (reference pass: the whole curved "
+            'correction, correction="whole")',
+            static_solve(args.repeats, correction="whole"),
         ),
         (
-            "fibreshell Static (MindlinShell), curved correction's share fitted (LEAST_SCALE "
-            "0.25, off by default)",
-            static_solve(args.repeats, share=0.25),
+            "fibreshell Static (MindlinShell), before the kept tangent as well (the whole "
+            "correction, every tangent assembled)",
+            static_solve(args.repeats, before=True, correction="whole"),
         ),
         ("fibreshell Static (MindlinShell), chords=4", static_solve(args.repeats, chords=4)),
     ]

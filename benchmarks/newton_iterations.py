@@ -251,11 +251,20 @@ within one iteration an increment of the default's, 1.0 worse. The kept tangent
 (solvers/kept_tangent.py): the Mindlin lines' Newton tangents elastica 23 -> 19, roll-up 18 ->
 15, cantilever 23 -> 19, Peirce MindlinShell(fabric) 14 -> 12, the same iterations and
 positions to the bit; the fibrous lines unchanged (their folds are history a commit renews).
-Since, an option off by default (solvers/newton_curvature.py ``LEAST_SCALE = 0.25``,
-``correction_scale``): the share of w fitted at each curved step, the least of the parabola
-through ||r||^2 at a = 0, 1/2, 1 within [0.25, 1]: elastica 4-4-4-4-4, roll-up 5-4-4-4,
-cantilever 5-4-4-4-4 (17 tangents, no mode search), MindlinShell(fabric) 5-5-4; not on
-fibrous models (docs/theory.md §6.5, "Curved steps").
+Since, the default (``Static(correction="fitted")``; the line ``correction="whole"`` is the
+solver before, solvers/newton_curvature.py ``correction_scale``): the share of w fitted at
+each curved step, the least of the parabola through ||r||^2 at a = 0, 1/2, 1 within
+[0.25, 1]: elastica 4-4-4-4-4 (16 tangents, 107 forces, no mode search; whole 4-6-5-4-4, 19,
+66, 5 mode searches), roll-up 5-4-4-4 (14, 91, none; whole 5-4-5-4, 15, 48, 4), cantilever
+5-4-4-4-4 (17 tangents, no mode search), MindlinShell(fabric) 5-5-4 (12 tangents, 62 forces;
+whole 4-5-5, 12, 39); not on fibrous models, nor with interactions (docs/theory.md §6.5,
+"Curved steps"). CPU, best of 5 alternated in one process (load 10): elastica 0.035 against
+0.061 s, roll-up 0.031 against 0.048 s; MindlinShell(fabric) 0.045 against 0.044 s (best of
+4). The first variant of each line here carries the line's first-call costs at --repeat 1.
+The closing orders (the last step of each increment from a ratio >= 1e-6, as
+tests/test_newton_orders.py reads them): elastica 1.72-3.67 (whole 1.83-5.04), roll-up
+1.67-1.77 (1.72-2.65); the tail orders of the elastica with the share, 1.04-1.61, are those of
+the step after the second iterate (module docstring of tests/test_newton_orders.py).
 
 Run: python benchmarks/newton_iterations.py [--repeat 3] [--skip-large] [--levels-only]
 [--no-coloured]
@@ -282,18 +291,34 @@ from solvers import Static, round_off  # noqa: E402
 from validation import specimens  # noqa: E402
 from validation.references.elastica import peirce_overhang  # noqa: E402
 
-VARIANTS = (("default", {}), ("predictor=True", {"predictor": True}))
+VARIANTS = (
+    ("default", {}),
+    ('correction="whole" (the solver before the fitted share)', {"correction": "whole"}),
+    ("predictor=True", {"predictor": True}),
+)
 
 
 def tail_orders(history: list[float]) -> list[float]:
     """log(r_k+1) / log(r_k) of the decreasing steps of a residual-ratio history from
-    r_k <= 0.1 whose r_k+1 is above 3e-8, clear of the round-off floor (as
-    tests/test_newton_orders.py measures them)."""
+    r_k <= 0.1 whose r_k+1 is above 3e-8, clear of the round-off floor (the measure
+    tests/test_newton_orders.py took before the fitted share of the curved correction; it
+    now reads the last step of each increment from r_k >= 1e-6, ``closing_order``)."""
     return [
         math.log(after) / math.log(before)
         for before, after in zip(history[:-1], history[1:])
         if before <= 0.1 and 3e-8 < after < before
     ]
+
+
+def closing_order(history: list[float]) -> float | None:
+    """log(r_k+1) / log(r_k) of the last decreasing step of a residual-ratio history from
+    1e-6 <= r_k <= 0.1 (as tests/test_newton_orders.py measures it); None where none."""
+    orders = [
+        math.log(after) / math.log(before)
+        for before, after in zip(history[:-1], history[1:])
+        if 1e-6 <= before <= 0.1 and after < before
+    ]
+    return orders[-1] if orders else None
 
 
 def _tip_loaded(length, width, young, cells, across, amplitude):
@@ -524,11 +549,15 @@ def main(argv=None) -> None:
             histories = info["residual_history"]
             first = [f"{history[1]:.1g}" for history in histories if len(history) > 1]
             orders = [f"{order:.2f}" for history in histories for order in tail_orders(history)]
+            closing = [closing_order(history) for history in histories]
+            last = ", ".join("-" if order is None else f"{order:.2f}" for order in closing)
             tip = result.positions[mesh.nodes("right")].mean(axis=0)
             print(
                 f"  {variant}: iterations {info['iterations_per_increment']}, cuts "
                 f"{info['cuts']}, first-iterate ratios [{', '.join(first)}], tail orders "
-                f"[{', '.join(orders)}], {info['evaluations']['tangent']} tangents, "
+                f"[{', '.join(orders)}], closing orders [{last}], "
+                f"{info['evaluations']['tangent']} tangents, {info['evaluations']['residual']} "
+                f"forces, {info['mode_searches']} mode searches, "
                 f"{best:.2f} s CPU, tip x {tip[0]:.6f} z {tip[2]:.6f} mm, load "
                 f"{os.getloadavg()[0]:.1f}"
             )

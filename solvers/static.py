@@ -57,6 +57,7 @@ from solvers.common import (
 )
 from solvers.interrupts import check_outputs, keeps_writes
 from solvers.load_path import LOAD_DEFAULTS, check_load_options, load_path
+from solvers.newton_curvature import CORRECTIONS
 from solvers.output import output_path
 from solvers.stabilisation import check_stabilise, report_stabilisation
 from solvers.static_run import StaticRun
@@ -195,6 +196,16 @@ class Static:
         Newton iterations (9-9-9-8-8 with straight steps and no chord), the elastica and the
         roll-up of validation/cases in at most 6. Counted in ``info["curved_steps"]``; not
         with contact or other interactions, unless ``curved_with_contact``.
+    correction : with ``curved``, how much of a curved step's second-order correction w is
+        taken: "fitted" (the default) the share a in [1/4, 1] at which the parabola through
+        ||r||^2 at the step's end with a = 0, 1/2, 1 is least (three force evaluations more);
+        "whole" all of it, the solver before (solvers.newton_curvature, docs/theory.md §6.5,
+        "Curved steps"). The whole correction overshot on the first update of the Mindlin
+        cantilevers' increments, into a compressed, indefinite iterate: the 2560-triangle
+        strip of benchmarks/kratos_cantilever.py 4-5-5-5-4 -> 5-4-4-4-4 iterations and no
+        mode search, the elastica 4-6-5-4-4 -> 4-4-4-4-4. Models with a fibrous block or with
+        interactions (``curved_with_contact``) take the whole correction either way (the fit
+        cost iterations there: the plies of plies-deck-of-cards 882 -> 924).
     curved_with_contact : the curved steps also with interactions that keep no contact sets
         and no history, whose forces the gaps alone decide (the plies' frictionless contact,
         elements/ply_contact.py; not with friction; needs ``curved``; default False;
@@ -305,6 +316,7 @@ class Static:
         output: str | os.PathLike[str] | None = None,
         curved_with_contact: bool = False,
         ply_penalty_start: float | None = None,
+        correction: str = "fitted",
     ):
         self.increments = check_integer(increments, "increments")
         self.tol = check_tolerance(tol)
@@ -344,6 +356,12 @@ class Static:
                 "curved_with_contact=True given with curved=False: the curved steps it lets "
                 "through with the plies' contact are off; expected curved=True with it"
             )
+        if correction not in CORRECTIONS:
+            raise ValueError(
+                f"correction must be one of {CORRECTIONS} (the share of a curved step's "
+                f"second-order correction taken), got {correction!r}"
+            )
+        self.correction = correction
         self.fibre_projection = check_flag(fibre_projection, "fibre_projection")
         self.level_projection = check_flag(level_projection, "level_projection")
         self.compression_free = (

@@ -1,14 +1,14 @@
 """solvers.newton_curvature: the curved step takes the share of its second-order correction at
-which the residual is least along it (``LEAST_SCALE``, off by default), so that the first
-update of an increment no longer overshoots into a compressed, indefinite iterate."""
+which the residual is least along it (``Static(correction="fitted")``, the default), so that
+the first update of an increment no longer overshoots into a compressed, indefinite iterate."""
 
 from types import SimpleNamespace
 
 import numpy as np
 import pytest
 
-from solvers import Static, newton_curvature
-from solvers.newton_curvature import correction_scale
+from solvers import Static
+from solvers.newton_curvature import LEAST_SCALE, correction_scale
 from validation.references.elastica import tip_loaded_cantilever
 from validation.specimens import mindlin_strip
 
@@ -25,10 +25,10 @@ def _linear_residual(target: np.ndarray):
 
 
 @pytest.mark.parametrize(("least", "expected"), [(0.6, 0.6), (0.1, 0.25), (1.7, 1.0)])
-def test_the_share_is_the_least_of_the_residual_within_its_bounds(least, expected, monkeypatch):
+def test_the_share_is_the_least_of_the_residual_within_its_bounds(least, expected):
     # delta = 0, w = 1 in one unknown, the target at a*: the fit through a = 0, 1/2, 1 is the
     # parabola itself, its vertex a* clipped to [LEAST_SCALE, 1].
-    monkeypatch.setattr(newton_curvature, "LEAST_SCALE", 0.25)
+    assert LEAST_SCALE == 0.25
     delta, correction = np.zeros((1, 5)), np.zeros((1, 5))
     correction[0, 0] = 1.0
     target = least * correction
@@ -36,8 +36,7 @@ def test_the_share_is_the_least_of_the_residual_within_its_bounds(least, expecte
     assert share == pytest.approx(expected, abs=1e-12)
 
 
-def test_a_residual_that_is_not_finite_keeps_the_whole_correction(monkeypatch):
-    monkeypatch.setattr(newton_curvature, "LEAST_SCALE", 0.25)
+def test_a_residual_that_is_not_finite_keeps_the_whole_correction():
     delta, correction = np.zeros((1, 5)), np.ones((1, 5))
     target = np.full((1, 5), np.nan)
     assert correction_scale(_linear_residual(target), None, None, delta, correction) == 1.0
@@ -53,25 +52,26 @@ def _elastica():
     return model, tip, drop
 
 
-def test_the_elastica_takes_four_iterations_an_increment_and_meets_no_indefinite_iterate(
-    monkeypatch,
-):
+def test_the_elastica_takes_four_iterations_an_increment_and_meets_no_indefinite_iterate():
     # With the whole correction the first update of every increment compressed the strip
     # (1-14 negative pivots on the cantilevers: a mode search each) and the increments took
     # 4-6-5-4-4 Newton iterations; with the share the residual asks for, 4-4-4-4-4 and no
     # negative pivot on the way. The tip within the case's 1 % of the elastica (Bisshopp &
     # Drucker 1945) and within 1e-6 of the drop of the whole corrections (both converge to the
     # residual ratio 1e-8).
-    # The share is off by default (solvers.newton_curvature, LEAST_SCALE): turned on here.
     model, tip, drop = _elastica()
     compiled = model.compile()
-    monkeypatch.setattr(newton_curvature, "LEAST_SCALE", 0.25)
     result = Static(increments=5, progress=False).solve(compiled)
     assert max(result.info["iterations_per_increment"]) <= 4
     assert result.info["mode_searches"] == 0
     assert -result.displacements[tip, 2].mean() == pytest.approx(drop, rel=1e-2)
-    monkeypatch.setattr(newton_curvature, "LEAST_SCALE", None)
-    whole = Static(increments=5, progress=False).solve(compiled)
+    whole = Static(increments=5, correction="whole", progress=False).solve(compiled)
     assert max(whole.info["iterations_per_increment"]) > 4
     assert whole.info["mode_searches"] > 0
     assert result.positions == pytest.approx(whole.positions, abs=1e-6 * drop)
+
+
+@pytest.mark.parametrize("bad", ["half", "Fitted", None, 0.5])
+def test_a_correction_that_is_not_fitted_or_whole_is_refused(bad):
+    with pytest.raises(ValueError, match=r"correction must be one of \('fitted', 'whole'\)"):
+        Static(correction=bad)

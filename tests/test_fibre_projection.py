@@ -4,9 +4,9 @@
   turned rigidly about its clamp by a straight step (first-order length change zero) keeps the
   reference lengths of its warp and weft edges to round-off.
 * Peirce's cantilever of MindlinShell(fabric) (the G986 stack of benchmarks/static_solver.py,
-  line 6) converges in at most 6 Newton iterations per increment, where the steps without the
-  projection took 8-12-12, to the same equilibrium, whose chord makes Peirce's 41.5 deg
-  (Peirce, J. Textile Inst. 21 (1930) T377).
+  line 6) converges in at most 6 Newton iterations per increment, in fewer iterations than
+  the steps without the projection, to the same equilibrium, whose chord makes Peirce's
+  41.5 deg (Peirce, J. Textile Inst. 21 (1930) T377).
 """
 
 from __future__ import annotations
@@ -74,9 +74,12 @@ def test_the_projection_restores_the_fibre_lengths_of_a_turned_strip():
 
 def test_peirce_mindlin_fabric_cantilever_converges_in_at_most_six_iterations_per_increment():
     # Without the projection the curved steps' third-order remainder stretches the fibres
-    # (tension 1200 N/mm against B = 0.06-0.2 N mm): 8-12-12 iterations. Measured with it:
-    # 4-5-5. The bound is the 3-6 per increment of the static solver's other strips (the
-    # tip-loaded cantilever, the elastica, the roll-up of tests/test_static.py).
+    # (tension 1200 N/mm against B = 0.06-0.2 N mm). Measured, with the projection and
+    # without: 5-5-4 and 6-6-5 iterations (the fitted share of the curved correction,
+    # solvers.newton_curvature, takes back much of the stretch itself); with the whole
+    # correction (correction="whole") 4-5-5 and 8-17-13. The bound is the 3-6 per increment
+    # of the static solver's other strips (the tip-loaded cantilever, the elastica, the
+    # roll-up of tests/test_static.py).
     overhang = peirce_overhang(FABRIC.areal_density * specimens.GRAVITY, FABRIC.bending)
     mesh, model = specimens.mindlin_fabric_strip(overhang["overhang"], 10.0, FABRIC, 20)
     compiled = model.compile()
@@ -84,9 +87,10 @@ def test_peirce_mindlin_fabric_cantilever_converges_in_at_most_six_iterations_pe
     result = Static(increments=3, progress=False).solve(compiled)
     assert max(result.info["iterations_per_increment"]) <= 6
     assert result.info["fibre_projections"] > 0
-    # The same equilibrium as without the projection (both converged to the ratio 1e-8).
+    # The same equilibrium as without the projection (both converged to the ratio 1e-8),
+    # reached in more iterations there.
     plain = Static(increments=3, fibre_projection=False, progress=False).solve(compiled)
-    assert max(plain.info["iterations_per_increment"]) > 6
+    assert plain.steps > result.steps, (plain.steps, result.steps)
     x, _, z = result.positions[tip].mean(axis=0)
     assert result.positions == pytest.approx(plain.positions, abs=1e-6 * abs(z))
     # Peirce's chord: measured 41.6 deg (the 0.1 deg of the 20-cell mesh and the transverse

@@ -75,16 +75,17 @@ def test_the_end_moment_increment_is_halved_before_it_is_iterated():
     # The strip rolled up by an end moment M = (pi / 4) E I / L in one increment: the first
     # Newton step from the flat strip is the linear solution, whose tip turns by
     # M L / (E I) = pi / 4 (Euler-Bernoulli; the MITC3 strip's linear tip rotation agrees to
-    # 1e-6). With a limit of 0.4 rad the increment is cut to its half before any iteration:
-    # 10 Newton iterations in the two halves (measured) against 18 in the whole step, whose
-    # ratio stays near 1 for 14 (tests/test_static_stall.py); the same equilibrium.
+    # 1e-6). With a limit of 0.4 rad the increment is cut to its half before any iteration,
+    # and the two halves cost fewer Newton iterations than the whole step, whose ratio stays
+    # near 1 for its first 10 or more (tests/test_static_stall.py); the same equilibrium.
+    # Measured: 8 against 13 (10 against 18 with correction="whole").
     plain = Static(increments=1, progress=False).solve(_rollup())
     sized = Static(increments=1, first_turn=0.4, progress=False).solve(_rollup())
     ((tried, turn, share),) = sized.info["first_turn_cuts"]
     assert tried == 1.0 and share == 0.5
     assert turn == pytest.approx(np.pi / 4, rel=1e-6)
     assert sized.info["cuts"] == 0 and sized.info["iterations_cut"] == 0
-    assert sized.steps <= 12 < plain.steps == 18, (sized.steps, plain.steps)
+    assert sized.steps < plain.steps, (sized.steps, plain.steps)
     scale = np.abs(plain.positions).max()
     assert np.abs(sized.positions - plain.positions).max() <= 1e-6 * scale
 
