@@ -11,11 +11,21 @@ sort). A test's duration is its wall in the measured run, setup and teardown inc
 tests that read the coarse report carry their wait for it, which the replay keeps where the
 run met it (their place in the order is the same under both schedulers, the last ones).
 
-Measured (main 432e668, a fresh clone, ``python -m pytest --dist worksteal`` from an empty
-numba cache, the 2-core machine shared with other jobs, load 13-18): see the commit that added
-this script for the figures; the ``load`` scheduler hands the first worker a run of a quarter
-of its share at the start (514 of the 4118 tests), the 85 slow tests among them, and never
-takes back what it sent: the other worker, done with everything else, waits at the end.
+Why: the suite's order puts its 85 slow tests first (tests/conftest.py); xdist's ``load``
+hands the first worker a run of a quarter of its share at the start (514 of 4118 tests, every
+slow one among them) and never takes back what it has sent, so where those 514 tests take
+longer than half the run the other worker, done with everything else, waits at the end;
+``worksteal`` (pyproject.toml since a78168a) takes half of the unstarted tests of a busy
+worker for an idle one. On a session of that shape (tests/test_suite_setup.py: 10 tests of
+10 s, then 400 of 0.1 s) the replay ends load's workers at 104.1 and 35.9 s, worksteal's at
+70.0 and 70.0 s.
+
+Not measured yet on a whole run at a load where the walls mean something: a run of 432e668
+under ``load`` (a fresh clone, an empty numba cache, ``python -m pytest``) took 61.8 min of
+wall and 845 s of CPU (pytest and every process it reaped) at a load of 9-18 (other jobs on
+the 2 cores; mypy alone 532 s of wall in the worksteal run beside it, against about 25 s in
+CI), and its per-test log was lost; the worksteal run beside it did not end in the time there
+was.
 
 Run: python benchmarks/suite_schedule.py TIMELINE_FOLDER
      python benchmarks/suite_schedule.py --plugin FOLDER
