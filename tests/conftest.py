@@ -82,13 +82,14 @@ def pytest_collection_modifyitems(session, config, items):
     """The order of a run: the tests that call no compiled kernel (marked ``no_kernels``:
     mypy) first, then those that wait for processes they start (``waits``), then the other
     tests marked ``slow``, and the tests that read the coarse report last (in the order
-    collected otherwise, the same in every xdist worker; xdist's ``load`` hands each worker a
-    run of consecutive tests first, a quarter of its share: the first worker takes these
-    groups in this order, the other the fast tests after them). At the start of a fresh
-    checkout the report's jobs and the workers ask for the same kernels, and the processes
-    waiting for one being compiled left a core idle; mypy needs none. A waiting test leaves
-    its core to the report's jobs while they run (the README's Dask fit left one idle after
-    the report had ended, benchmarks/suite_idle.py).
+    collected otherwise, the same in every xdist worker; xdist's ``worksteal``, the
+    ``--dist`` of pyproject.toml, hands each worker half of the tests in this order: the
+    first worker takes these groups first, the other the fast tests of the second half and
+    the report's readers, and a worker that runs out takes half of what the other has not
+    started). At the start of a fresh checkout the report's jobs and the workers ask for the
+    same kernels, and the processes waiting for one being compiled left a core idle; mypy
+    needs none. A waiting test leaves its core to the report's jobs while they run (the
+    README's Dask fit left one idle after the report had ended, benchmarks/suite_idle.py).
     A test waiting for the report holds up only the tests after it, and the two workers end
     together on short tests rather than one of them idle while the other runs a long one
     collected late (mypy's 29 s, the last test of a whole run, started when the other worker

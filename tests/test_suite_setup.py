@@ -232,6 +232,28 @@ def test_the_slow_tests_run_first_and_those_that_read_the_report_last():
     assert [i.name for i in items] == ["k", "h", "i", "j", "e", "g", "b", "d", "l", "f", "a", "c"]
 
 
+def test_the_configured_scheduler_ends_both_workers_together_after_a_long_first_run():
+    """The session's order puts the slow tests first (above: the suite's 85, minutes of
+    wall, the two-ply pace test's 108 s among them). xdist's ``load`` hands the first worker
+    a run of a quarter of its share at the start (514 of 4118 tests, every slow one in it) and
+    never takes back what it sent: the other worker, done with the rest, waited at the end.
+    pyproject.toml's ``--dist``, replayed with xdist's own scheduler (tests/xdist_replay.py)
+    on a session of that shape, 10 tests of 10 s first (100 s of 140), ends the two workers
+    within the longest test of each other: no schedule can do better once that test has
+    started last. (``load`` ends them 104.1 and 35.9 s in: the test fails there.)"""
+    import tomllib
+
+    from xdist_replay import ends, replay
+
+    options = tomllib.loads((Path(__file__).parents[1] / "pyproject.toml").read_text())
+    addopts = options["tool"]["pytest"]["ini_options"]["addopts"].split()
+    dist = addopts[addopts.index("--dist") + 1] if "--dist" in addopts else "load"
+    for durations in ([10.0] * 10 + [0.1] * 400, [0.1] * 400 + [10.0] * 10):
+        end = ends(replay(dist, durations))
+        assert sum(durations) / 2 <= max(end.values()) <= sum(durations) / 2 + max(durations)
+        assert abs(end["gw0"] - end["gw1"]) <= max(durations), (dist, end)
+
+
 def test_two_workers_asking_at_once_compute_the_run_once_and_both_read_it(tmp_path):
     # tests/run_once.py under a race: two processes ask at the same moment, the compute slow
     # enough (0.5 s) for the second to ask while the first computes; the lock makes the
