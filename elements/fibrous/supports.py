@@ -94,6 +94,7 @@ def _fix_tables(block: FibrousShellBlock, loose: np.ndarray) -> str:
     )
     items = list(option) if several else [option]
     mesh = block.clamp_mesh
+    assert mesh is not None  # a loose clamp has the option, whose mesh the block keeps
     tables = []
     for item, ids in zip(items, block.clamped_sets):
         left = np.intersect1d(ids, loose)
