@@ -37,11 +37,17 @@ def bound_block(
     element: ElementType, mesh: Mesh, cells: np.ndarray, directors: np.ndarray, index: int
 ) -> ElementBlock:
     """``element.bind(mesh, cells, directors)``; its ValueErrors (an unknown node set among
-    its options, ...) name the block (``model.blocks[index]``)."""
+    its options, ...) name the block (``model.blocks[index]``), an ``OptionError`` its option
+    as the key (``options.<option>``: fractional ``clamped`` node ids), as
+    ``supported_block``'s do."""
     try:
         return element.bind(mesh, cells, directors)
     except EntryError:
         raise
+    except OptionError as error:
+        where = f"block {index} ({type(element).__name__}): "
+        key = f"options.{error.option}"
+        raise EntryError("block", index, str(error), where, key, error.case_reason) from None
     except ValueError as error:
         where = f"block {index} ({type(element).__name__}): "
         raise EntryError("block", index, str(error), where) from None

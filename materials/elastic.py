@@ -161,7 +161,7 @@ class ElasticShell:
         self = cls.__new__(cls)
         larger = ("E1", E1) if E1 >= E2 else ("E2", E2)  # the modulus the user wrote
         unit = axis / np.linalg.norm(axis)
-        self._set(thickness, density, q, G13, G23, shear_factor, unit, nu12, larger)
+        self._set(thickness, density, q, G13, G23, shear_factor, unit, nu12, larger, G12)
         return self
 
     @classmethod
@@ -249,10 +249,12 @@ class ElasticShell:
         warp: np.ndarray | None,
         nu: float,
         modulus: tuple[str, float],
+        g12: float | None = None,
     ) -> None:
         """Set the section's fields; ``modulus`` (name, value) the largest Young's modulus as
         the user gave it (E, E1 or E2, MPa), judged for its units (not an entry of q, E / (1
-        - nu^2), which the user never wrote)."""
+        - nu^2), which the user never wrote), and so is ``g12`` (MPa), the in-plane shear
+        modulus of an orthotropic lamina as the user gave it (None: isotropic, from E)."""
         set_ = object.__setattr__
         set_(self, "thickness", check_positive(thickness, "ElasticShell thickness", "mm"))
         set_(self, "density", check_positive(density, "ElasticShell density", "t/mm^3"))
@@ -265,6 +267,13 @@ class ElasticShell:
         # consistent units (Scordelis-Lo: 4.32e8 psf) are not; in Pa from 1e5 (a soft rubber)
         # up. Up to 1e-6 t/mm^3 (1e6 kg/m^3): any density in kg/m^3 (1 to 2e4) is caught
         # beside lengths in mm. Up to 0.5 m thick in m.
+        # G12 as E, above (5e9 Pa among moduli in MPa is caught), with no lower bound: a
+        # calibrated lamina's G12 is its fabric's shear slope over h (ElasticShell.equivalent,
+        # elements/plies.py: down to 1e-6 E1), far below any solid's.
+        shear = [] if g12 is None else [
+            Plausible("ElasticShell modulus G12", g12, ("MPa", 0.0, 1e9), ("Pa", 0.0, 1e15),
+                      "a modulus in Pa is 1e6 of it in MPa")
+        ]  # fmt: skip
         warn_implausible(
             Plausible(f"ElasticShell modulus {modulus[0]}", modulus[1], ("MPa", 1e-3, 1e9),
                       ("Pa", 1e5, 1e15), "a modulus in Pa is 1e6 of it in MPa"),
@@ -272,6 +281,7 @@ class ElasticShell:
                       ("kg/m^3", 1e-2, 1e6), "a density in kg/m^3 is 1e-12 of it in t/mm^3"),
             Plausible("ElasticShell thickness", self.thickness, ("mm", 0.0, np.inf),
                       ("m", 1e-6, 0.5), "a thickness in mm is 1e3 of it in m"),
+            *shear,
         )  # fmt: skip
         set_(self, "transverse", kappa * np.array([g13, g23]))
         set_(self, "shear_factor", kappa)

@@ -47,7 +47,7 @@ from solvers.linear import SYMMETRY_TOLERANCE
 if TYPE_CHECKING:
     from solvers.linear import Factorisation, LinearSolver
 
-__all__ = ["ROUND_OFF", "Rounding", "judge_pivots", "unstable_modes"]
+__all__ = ["ROUND_OFF", "Rounding", "judge_pivots", "unstable_modes", "zero_modes"]
 
 # The relative rounding of a second variation against the diagonal stiffness of the unknowns
 # it moves (module docstring).
@@ -96,6 +96,31 @@ def judge_pivots(linear: LinearSolver, k_ff: sp.spmatrix, factor: Factorisation)
         return factor
     unstable = min(shifted.negative, factor.negative)
     return replace(factor, negative=unstable, neutral=factor.negative - unstable)
+
+
+def zero_modes(linear: LinearSolver, factor: Factorisation | None) -> int:
+    """How many eigenvalues of ``factor``'s K_ff lie within the rounding of their second
+    variation of zero, of either sign (module docstring): the zero-stiffness modes a stopped
+    solve can name (solvers.stop_diagnosis ``neutral_hint``). ``judge_pivots`` counts only the
+    negative ones (``neutral``), the others being harmless to a stability count; a zero mode
+    whose rounding fell positive (the K = 0 fibrous strip on 4 x 1 cells: eigenvalues 0, 0 and
+    1e-15 against a diagonal of 100) is as much a mechanism the load does not drive. The count
+    is the difference of the inertias of K_ff - diag(s) and K_ff + diag(s), s the shift of
+    ``Rounding.shifted`` (Sylvester, as there), each factorised by ``linear``, a solver of its
+    own. An exactly singular K_ff (neither an LDL^T nor an LU of it) counts 1 where those
+    inertias are unknown; 0 without ``factor``, or where the inertias are unknown otherwise
+    (a frictional tangent far from symmetric has none)."""
+    if factor is None:
+        return 0
+    singular = factor.kind == "lu" and factor._lu is None
+    k_ff = factor.matrix
+    rounding = Rounding(k_ff)
+    shift = sp.diags(ROUND_OFF * rounding.weights + rounding.noise, format="csc")
+    below = linear.factorise((k_ff - shift).tocsc()).negative
+    above = linear.factorise((k_ff + shift).tocsc()).negative
+    if below is None or above is None:
+        return int(singular)
+    return max(below - above, int(singular), factor.neutral)
 
 
 def unstable_modes(k_ff: sp.spmatrix, modes: tuple[np.ndarray, np.ndarray]):

@@ -594,7 +594,7 @@ class StaticRun:
             frames = self.model.dofs.frames(self.balanced.directors)
             hint = rounding_stop(self.equilibrium(max(aim, 1.0)), self.balanced, frames)
         if not hint:
-            hint = neutral_hint(self.last_factorisation) or stop_hint(
+            hint = neutral_hint(self.last_factorisation, self.neutral_linear) or stop_hint(
                 self.model,
                 self.state.positions,
                 self.solver.path,

@@ -25,6 +25,8 @@ from typing import Any
 
 import numpy as np
 
+from solvers.neutral_modes import zero_modes
+
 __all__ = [
     "CYCLE_SWITCHES",
     "FRICTION_AT_START",
@@ -179,15 +181,21 @@ FRICTION_LATER = (
 )
 
 
-def neutral_hint(factor) -> str:
+def neutral_hint(factor, linear=None) -> str:
     """The cause of a stop whose last tangent ``factor`` (solvers.linear.Factorisation, or
-    None) had negative pivots within round-off of zero (``neutral``, solvers.neutral_modes):
-    zero-stiffness modes, a mechanism the load does not drive, along which a Newton step is
-    the residual's round-off over the eigenvalue's; "" without them. Named with its
-    commonest cause and remedies: a fibrous fabric whose shear law has no stiffness at zero
-    shear (K = 0) leaves the flat sheet's in-plane shear (trellising) and its directors'
-    tilt free."""
+    None) has eigenvalues within round-off of zero: zero-stiffness modes, a mechanism the load
+    does not drive, along which a Newton step is the residual's round-off over the
+    eigenvalue's; "" without them. Counted of either sign, and an exactly singular tangent,
+    by ``solvers.neutral_modes.zero_modes`` with ``linear`` (a solvers.linear.LinearSolver of
+    its own) where given, else the negative ones alone (``factor.neutral``, solvers.neutral_modes
+    ``judge_pivots``): a zero mode whose rounding fell positive is the same mechanism (the
+    K = 0 strip on 4 x 1 or 8 x 4 cells was sent to the arc length, which then stopped on its
+    singular tangent). Named with its commonest cause and remedies: a fibrous fabric whose
+    shear law has no stiffness at zero shear (K = 0) leaves the flat sheet's in-plane shear
+    (trellising) and its directors' tilt free."""
     count = 0 if factor is None else int(getattr(factor, "neutral", 0) or 0)
+    if not count and linear is not None:
+        count = zero_modes(linear, factor)
     if not count:
         return ""
     return (

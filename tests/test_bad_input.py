@@ -85,6 +85,10 @@ def test_values_in_the_wrong_units_draw_a_warning():
         ElasticShell(E=70e9, nu=0.3, thickness=1.0, density=2.7e-9)
     with pytest.warns(UserWarning, match=r"ElasticShell modulus E1 = 1\.4e\+11 MPa is outside"):
         ElasticShell.orthotropic(1.4e11, 1e10, 0.3, 5e9, 5e9, 5e9, thickness=1.0, density=1.5e-9)
+    # G12 is written by the user as E is: 5 GPa in Pa among moduli in MPa (a carbon lamina,
+    # E1 = 140 GPa, E2 = 10 GPa in MPa) was quiet.
+    with pytest.warns(UserWarning, match=r"ElasticShell modulus G12 = 5e\+09 MPa is outside"):
+        ElasticShell.orthotropic(1.4e5, 1e4, 0.3, 5e9, 5e3, 3e3, thickness=1.0, density=1.6e-9)
     with pytest.warns(UserWarning, match="density in kg/m"):
         ElasticShell(E=70e3, nu=0.3, thickness=1.0, density=2700.0)
     with warnings.catch_warnings():

@@ -214,6 +214,8 @@ MINDLIN_PART = (
     "old, new, where",
     [
         ('clamped = "left"', 'clamped = "lefft"', r"\[part\[0\]\]: unknown node set 'lefft'"),
+        ('clamped = "left"', "clamped = [0.5, 21.5, 42.5]",
+         r"\[part\[0\].options.clamped\]: clamped: node ids must be integers"),
         ("tip = {", 'left = { x_min = 50.0 }\ntip = {', r"\[sets.left\]: node set 'left' already"),
         ('clamped = "left" }', 'clamped = "left" }\ncells = "blank"',
          r"\[part\[0\].cells\]: no triangle set named 'blank'"),
@@ -360,6 +362,37 @@ def test_compare_needs_a_fibrous_part(tmp_path):
     case = load_case(write(tmp_path, text))
     with pytest.raises(ValueError, match="compare needs a fibrous part"):
         compare_case(case, tmp_path / "out", progress=False)
+
+
+@pytest.mark.parametrize(
+    ("clamped", "fixed", "advised"),
+    [
+        # node ids of the left edge (21 nodes a row): the mesh's set of exactly those nodes
+        ("[0, 21, 42]", "", ['"left"']),
+        # node ids of half that edge: no set holds just them, a bounds table selects them
+        ("[0, 21]", "", ["{ x_max = 0.0, y_max = 5.0 }"]),
+        # two sets, the left one held already: only the loose set is named
+        ('["left", "right"]', '[[fix]]\nnodes = "left"\n', ['"right"']),
+    ],
+    ids=["ids-of-a-named-set", "ids-of-a-bounds-table", "two-sets-one-held"],
+)
+def test_a_loose_clamp_is_refused_with_fix_tables_the_reader_takes(
+    tmp_path, clamped, fixed, advised
+):
+    # The refusal of a clamp no support holds says what to add; followed, that advice must
+    # build the model. It gave `[[fix]] nodes = [0, 21, 42]`, which the reader refuses
+    # ("expected a node-set name or a bounds table"), and named a set held already.
+    base = CANTILEVER.replace(
+        'options = { clamped = "left" }', f"options = {{ clamped = {clamped} }}"
+    )
+    base = base.replace('[[fix]]\nnodes = "left"\n', fixed)
+    with pytest.raises(CaseError, match=r"\[part\[0\]\.options\.clamped\]") as caught:
+        load_case(write(tmp_path, base)).model()
+    advice = re.search(r"are not held: add (.*) \(no dofs key", str(caught.value)).group(1)
+    tables = re.findall(r"a \[\[fix\]\] nodes = (\"[^\"]*\"|\{[^}]*\})", advice)
+    assert tables == advised and advice == " and ".join(f"a [[fix]] nodes = {t}" for t in tables)
+    followed = base + "".join(f"[[fix]]\nnodes = {table}\n" for table in tables)
+    assert load_case(write(tmp_path, followed, "followed.toml")).model() is not None
 
 
 # ---------------------------------------------------------------------- the command

@@ -99,7 +99,8 @@ class FibrousShellBlock(ElementBlock):
         cell and side), for the fold angles evaluated once per side (supports.py
         ``shared_sides``).
     requested_clamp : (n,) bool, the nodes of the ``clamped`` option; ``clamped_option`` the
-        option as given.
+        option as given, ``clamped_sets`` its sets' node ids (a list of (k,) int) and
+        ``clamp_mesh`` the mesh (None without the option), for the advice of a loose clamp.
     wall_nodes : (n,) bool, the held nodes whose nodal normal is the wall's (the reference
         one); wall_node_ids their ids and wall_sums (len(wall_node_ids), 3) their normal sums.
     reference_sums : (n, 3), the normal sums of the reference configuration (set by
@@ -173,6 +174,10 @@ class FibrousShellBlock(ElementBlock):
         # by apply_supports, which also recomputes the reference folds from these points.
         self.requested_clamp = supports.requested_clamp(mesh, self.connectivity, shell.clamped)
         self.clamped_option = shell.clamped  # as given: named in the refusal of a loose clamp
+        # its sets (node ids, each) and the mesh (its sets and points), for the advice of
+        # that refusal: the [[fix]] tables a case file takes (supports._fix_tables)
+        self.clamped_sets = supports.node_sets(mesh, shell.clamped, "clamped")
+        self.clamp_mesh = mesh if shell.clamped is not None else None
         self.reference_points = np.asarray(mesh.points, dtype=float)
         # Nodes whose normal is that of the wall they are held against (apply_supports).
         self.wall_nodes = np.zeros(mesh.n_nodes, dtype=bool)

@@ -80,15 +80,72 @@ def requested_clamp(mesh: Mesh, connectivity: np.ndarray, clamped) -> np.ndarray
     return member
 
 
-def _fix_tables(option, loose: np.ndarray) -> str:
-    """What a case file writes to hold the ``clamped`` option's nodes: a [[fix]] table of
-    each set name it gives, else of the ``loose`` node ids."""
-    names = [option] if isinstance(option, str) else list(option) if option is not None else []
-    if names and all(isinstance(name, str) for name in names):
-        tables = " and ".join(f'[[fix]] nodes = "{name}"' for name in names)
-    else:
-        tables = f"[[fix]] nodes = {loose.tolist()}"
-    return f"a {tables}" if len(names) <= 1 else tables
+def _fix_tables(block: FibrousShellBlock, loose: np.ndarray) -> str:
+    """What a case file writes to hold the ``clamped`` option's ``loose`` nodes (k,) int: "a
+    [[fix]] ..." table for each set of the option that has loose nodes (a set all of whose
+    nodes the supports hold already is not named), in a form the case reader takes
+    (fibreshell/case.py: a node-set name or a bounds table, no node ids): a set given by its
+    name by that name; one given by node ids by the name of a mesh set of exactly its loose
+    nodes, else by the bounds table (``_bounds_table``) that selects exactly them, else a
+    [sets] entry to write (a list of ids cannot be one)."""
+    option = block.clamped_option
+    several = isinstance(option, list | tuple) and all(
+        isinstance(item, str) or np.ndim(item) >= 1 for item in option
+    )
+    items = list(option) if several else [option]
+    mesh = block.clamp_mesh
+    assert mesh is not None  # a loose clamp has the option, whose mesh the block keeps
+    tables = []
+    for item, ids in zip(items, block.clamped_sets):
+        left = np.intersect1d(ids, loose)
+        if not left.size:
+            continue  # held by the supports already
+        if isinstance(item, str):
+            tables.append(f'[[fix]] nodes = "{item}"')
+            continue
+        named = [
+            name for name, nodes in mesh.node_sets.items() if np.array_equal(np.unique(nodes), left)
+        ]
+        bounds = None if named else _bounds_table(mesh, left)
+        if named:
+            tables.append(f'[[fix]] nodes = "{named[0]}"')
+        elif bounds is not None:
+            tables.append(f"[[fix]] nodes = {bounds}")
+        else:
+            tables.append(
+                f"[[fix]] of a set of [sets] that holds nodes {left.tolist()} (the case "
+                "reader takes a set's name or a bounds table, not node ids)"
+            )
+    return " and ".join(f"a {table}" for table in tables)
+
+
+def _bounds_table(mesh: Mesh, nodes: np.ndarray) -> str | None:
+    """The bounds table of a case file (fibreshell/case_sets.py) that selects exactly
+    ``nodes`` (k,) int of ``mesh``: their bounding box, each bound that the extent of the
+    nodes the cells use already sets left out; None where that box holds another used node.
+    The case reader's default tolerance, 1e-6 of the mesh's largest extent, is the one
+    checked; coordinates written to 12 digits, within it."""
+    used = np.zeros(mesh.n_nodes, dtype=bool)
+    for kind in mesh.cell_kinds:
+        used[mesh.cells(kind).ravel()] = True
+    points = np.asarray(mesh.points, dtype=float)
+    low, high = points[used].min(axis=0), points[used].max(axis=0)
+    tolerance = 1e-6 * float((high - low).max())
+    chosen = points[nodes]
+    first, last = chosen.min(axis=0), chosen.max(axis=0)
+    bounds = []
+    inside = used.copy()
+    for axis, name in enumerate("xyz"):
+        if first[axis] > low[axis] + tolerance:
+            bounds.append(f"{name}_min = {float(f'{first[axis]:.12g}')!r}")
+        if last[axis] < high[axis] - tolerance:
+            bounds.append(f"{name}_max = {float(f'{last[axis]:.12g}')!r}")
+        inside &= (points[:, axis] >= first[axis] - tolerance) & (
+            points[:, axis] <= last[axis] + tolerance
+        )
+    if not bounds or not np.array_equal(np.flatnonzero(inside), np.unique(nodes)):
+        return None
+    return "{ " + ", ".join(bounds) + " }"
 
 
 def set_sides(block: FibrousShellBlock, clamp: np.ndarray) -> None:
@@ -187,7 +244,7 @@ def apply_supports(
         raise OptionError(
             f"{nodes} must have their translations and directors fixed with model.fix {why}",
             "clamped",
-            f"{nodes} are not held: add {_fix_tables(block.clamped_option, loose)} (no dofs "
+            f"{nodes} are not held: add {_fix_tables(block, loose)} (no dofs "
             f"key: the translations and the directors), or drop the option {why}",
         )
     check_plane_supports(block, held, constrained)

@@ -33,6 +33,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from elements.fibrous.geometry import SIDE_FROM, SIDE_TO
+from femcore.entry_error import OptionError
 from femcore.mesh import Mesh
 from femcore.rotation import nodal_frames
 
@@ -60,8 +61,9 @@ AXES = ("ux", "uy", "uz")
 
 def node_sets(mesh: Mesh, given, option: str = "symmetric") -> list[np.ndarray]:
     """The node ids of each set of a node-set option (``symmetric``, ``clamped``): one node
-    set (a set name or node ids) or a list of them. ValueError naming ``option`` for an
-    empty list, an item that is neither, fractional or out-of-range ids."""
+    set (a set name or node ids) or a list of them. OptionError (a ValueError that a case file
+    places at the option's key) naming ``option`` for an empty list, an item that is neither,
+    fractional or out-of-range ids; ValueError for an unknown set name (the mesh's)."""
     if given is None:
         return []
     several = isinstance(given, (list, tuple)) and all(
@@ -69,7 +71,9 @@ def node_sets(mesh: Mesh, given, option: str = "symmetric") -> list[np.ndarray]:
     )
     sets = list(given) if several else [given]
     if not sets:
-        raise ValueError(f"{option}: give a node set (a name or node ids) or a list of them")
+        raise OptionError(
+            f"{option}: give a node set (a name or node ids) or a list of them", option
+        )
     nodes = []
     for item in sets:
         if isinstance(item, str):
@@ -81,22 +85,25 @@ def node_sets(mesh: Mesh, given, option: str = "symmetric") -> list[np.ndarray]:
 
 
 def _whole_ids(mesh: Mesh, item, option: str) -> np.ndarray:
-    """Node ids ``item`` as int64 (unique), or ValueError: not numbers, fractional (a cast
-    would truncate 0.9 to node 0 silently), or out of the mesh's range."""
+    """Node ids ``item`` as int64 (unique), or OptionError naming ``option``: not numbers,
+    fractional (a cast would truncate 0.9 to node 0 silently), or out of the mesh's range."""
     try:
         array = np.asarray(item, dtype=float).ravel()
     except (TypeError, ValueError):
-        raise ValueError(f"{option}: a node set is a name or node ids, got {item!r}") from None
+        raise OptionError(
+            f"{option}: a node set is a name or node ids, got {item!r}", option
+        ) from None
     if isinstance(item, (bool, np.bool_)) or np.asarray(item).dtype == bool:
-        raise ValueError(f"{option}: a node set is a name or node ids, got {item!r}")
+        raise OptionError(f"{option}: a node set is a name or node ids, got {item!r}", option)
     if not np.all(np.isfinite(array)) or np.any(array != np.round(array)):
-        raise ValueError(
+        raise OptionError(
             f"{option}: node ids must be integers, got {item!r}: give whole node ids or a "
-            "node-set name"
+            "node-set name",
+            option,
         )
     ids = np.unique(array.astype(np.int64))
     if ids.size and (ids.min() < 0 or ids.max() >= mesh.n_nodes):
-        raise ValueError(f"{option}: node ids must be in 0..{mesh.n_nodes - 1}")
+        raise OptionError(f"{option}: node ids must be in 0..{mesh.n_nodes - 1}", option)
     return ids
 
 
