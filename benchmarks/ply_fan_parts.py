@@ -9,11 +9,19 @@ The whole front call is timed too (its kernel, as the run makes it now).
 
     NUMBA_NUM_THREADS=1 python benchmarks/ply_fan_parts.py
 
-Measured (one thread, 2 cores shared with a dozen other jobs, load 9-11), Mindlin [0/90]
-steps 0-8000, every 20th call of each pass (100 calls a pass), us a call: the lower ply's
-nodes' pass (81 points, some 29 at a vertex, at some 16 vertices) 6.66 -> 3.22, the upper
-ply's points' pass (384 points, some 290 at a vertex, at some 76 vertices) 26.10 -> 9.12;
-the same bits. See the run's figures in the commit that brought ``_parts_once``.
+Measured (one thread, 2 cores shared with other jobs), us a call, the same bits each time:
+
+* ``--stop 4000 --every 10`` (load 5.6; 200 calls of each pass with the choice made): the
+  lower ply's nodes' pass (81 points, 44 at a vertex) 6.31 -> 3.84, the upper ply's points'
+  pass (384 points, 207 at a vertex) 23.19 -> 8.03; the whole front call as it runs now
+  47.8 and 67.7: some 17.6 us saved a step (two passes) of the Mindlin run's ~1.1 ms;
+* the run's front-call inputs of steps 0-8000, every 20th call (load 9-11, a first form of
+  this script): 6.66 -> 3.22 and 26.10 -> 9.12 (some 290 of 384 points at some 76 vertices).
+
+The hemisphere-plies case (``python -m validation --cases hemisphere-plies --jobs 1``, the
+tree before and after, load 5-11): results.json the same in 471 of its 491 entries, the 20
+others its times and stamp; the Mindlin [0/90] run's CPU 52.5 -> 52.3 s, within that load's
+spread (the saving is some 2 % of its step): no case-level figure is claimed.
 """
 
 from __future__ import annotations
@@ -85,9 +93,10 @@ def main() -> None:
         same = True
         at_vertex = []
         for a in taken:
-            ply_facing_front._front_chosen(*a)  # the choice's arrays of this state
+            if not ply_facing_front._front_chosen(*a)[2]:  # the choice's arrays of this state
+                continue  # the lists did not serve: no choice made, its outputs unwritten
             given = (a[35], a[40], a[23], a[32], a[33], a[44], a[36], a[45], a[27])
-            made = {k: [np.empty_like(a[49]), np.empty_like(a[50]), np.empty_like(a[51])]
+            made = {k: [np.full_like(a[i], np.nan) for i in (49, 50, 51)]
                     for k in ("each", "once")}  # fmt: skip
             parts = (np.int64(0), np.int64(1))  # the whole loop, as the plain build runs it
             spent["each"] += _best(each, (*given, *made["each"], *parts), args.repeats)
@@ -95,9 +104,10 @@ def main() -> None:
             spent["front"] += _best(ply_facing_front._front_chosen, a, args.repeats)
             same &= all(u.tobytes() == v.tobytes() for u, v in zip(made["each"], made["once"]))
             at_vertex.append(int(np.any(made["once"][1] != 0.0, axis=1).sum()))
-        scale = 1e6 / len(taken)
+        scale = 1e6 / max(len(at_vertex), 1)
         print(
-            f"{points} points, {len(taken)} calls, {np.mean(at_vertex):.0f} at a vertex: fans "
+            f"{points} points, {len(at_vertex)} calls with the choice made, "
+            f"{np.mean(at_vertex):.0f} points at a vertex: fans "
             f"each point {spent['each'] * scale:.2f} -> once a vertex "
             f"{spent['once'] * scale:.2f} us a call (the same bits: {same}); the front call "
             f"as it runs now {spent['front'] * scale:.2f} us"

@@ -14,8 +14,8 @@ hemisphere (benchmarks/ply_chain_parts.py).
 
 Each stage runs its kernel's own plain build on the calling thread (femcore/jit.py
 ``plain_part``; IEEE, no fastmath; the fans' stage its own serial loop of the same
-operations, tests/test_ply_fan_parts_once.py), so every array of the facing is the same to the last bit as
-the chained calls' (tests/test_ply_facing_whole.py); ``arctan2`` stays numpy's
+operations, tests/test_ply_fan_parts_once.py), so every array of the facing is the same to
+the last bit as the chained calls' (tests/test_ply_facing_whole.py); ``arctan2`` stays numpy's
 (elements/ply_edge_kernels.py says why). The first call's stages also run at the end of the
 front's call of a new state (elements/ply_facing_front.py ``CHOSEN``), which hands its outputs
 (``chosen_outputs``) to the same finish (``finished_facing``). ``closest_facing`` takes this
