@@ -29,9 +29,9 @@ import numpy as np
 
 from elements.kernel_inputs import read_only
 from elements.ply_edge_gap import edge_hessian
-from elements.ply_feature_normals import fan_parts, signing_at
+from elements.ply_feature_normals import _where, fan_parts, signing_at
 from elements.ply_topology import FaceTopology
-from femcore.jit import jit_lanes, prange
+from femcore.jit import jit_lanes, lanes, prange
 
 __all__ = ["edge_sides"]
 
@@ -60,6 +60,52 @@ def _parts(on_edge, triangle, y, nodes, fans, gradients, closest, reach, inside,
 
 
 _parts_compiled = jit_lanes(_parts)
+
+
+@lanes
+def _parts_once(
+    on_edge, triangle, y, nodes, fans, gradients, closest, reach, inside, on_q, rise, run
+):  # fmt: skip
+    """``_parts`` on the calling thread, each vertex's fan's rise and run computed once a call
+    and copied to every point at that vertex: they are of the vertex's fan alone (y, ``fans``:
+    ``fan_parts``), not of the point, so the same operations on the same corners give the same
+    bits, where ``_parts`` made them again at each point (on the two-ply hemisphere's upper
+    pass some 290 of 384 points lie at some 76 vertices; docs/theory.md §9.3a)."""
+    width = rise.shape[1]
+    kept_rise = np.empty((fans.shape[0], width))
+    kept_run = np.empty((fans.shape[0], width))
+    made = np.zeros(fans.shape[0], dtype=np.bool_)
+    for i in range(on_edge.shape[0]):
+        if not on_edge[i]:
+            for f in range(width):
+                rise[i, f] = 0.0
+                run[i, f] = 0.0
+            continue
+        t = triangle[i]
+        v0 = closest[i, 0] - y[t, 0, 0]
+        v1 = closest[i, 1] - y[t, 0, 1]
+        v2 = closest[i, 2] - y[t, 0, 2]
+        for k in range(3):
+            # numpy's einsum adds a sum of three products as (first + last) + middle
+            on_q[i, k] = (gradients[i, k, 0] * v0 + gradients[i, k, 2] * v2) + gradients[
+                i, k, 1
+            ] * v1
+        on_q[i, 0] += 1.0
+        count, corner, _, _ = _where(on_q[i], reach[i], inside)
+        if count != 2:  # not at a vertex: fan_parts' zeros
+            for f in range(width):
+                rise[i, f] = 0.0
+                run[i, f] = 0.0
+            continue
+        vertex = nodes[t, corner]
+        if not made[vertex]:
+            fan_parts(
+                t, on_q[i], reach[i], y, nodes, fans, inside, kept_rise[vertex], kept_run[vertex]
+            )
+            made[vertex] = True
+        for f in range(width):
+            rise[i, f] = kept_rise[vertex, f]
+            run[i, f] = kept_run[vertex, f]
 
 
 def _sides(

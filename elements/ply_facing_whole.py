@@ -2,7 +2,8 @@
 ``closest_facing``, "Search" to "Past the outline, faded"; docs/theory.md, the ply contact
 section): the candidates' planes, the choice and the chosen arrays
 (elements/ply_facing_pass.py), the closest points' coordinates and fans' rise and run
-(elements/ply_edge_kernels.py ``_parts``) and the chosen planes' copies in the first; numpy's
+(elements/ply_edge_kernels.py ``_parts_once``: ``_parts`` with each vertex's fan made once a
+call) and the chosen planes' copies in the first; numpy's
 ``arctan2`` of the fans' angles between; the signs, gaps and flags (``_sides``), the
 outline's edges and the fade at the points near it (elements/ply_fade_kernels.py
 ``_outline``) and the touching points' last flag in the second. Before, ``closest_facing``
@@ -12,8 +13,9 @@ gathers, the working arrays and the planes' copies, about half of its time on th
 hemisphere (benchmarks/ply_chain_parts.py).
 
 Each stage runs its kernel's own plain build on the calling thread (femcore/jit.py
-``plain_part``; IEEE, no fastmath), so every array of the facing is the same to the last bit as
-the chained calls' (tests/test_ply_facing_whole.py); ``arctan2`` stays numpy's
+``plain_part``; IEEE, no fastmath; the fans' stage its own serial loop of the same
+operations, tests/test_ply_fan_parts_once.py), so every array of the facing is the same to
+the last bit as the chained calls' (tests/test_ply_facing_whole.py); ``arctan2`` stays numpy's
 (elements/ply_edge_kernels.py says why). The first call's stages also run at the end of the
 front's call of a new state (elements/ply_facing_front.py ``CHOSEN``), which hands its outputs
 (``chosen_outputs``) to the same finish (``finished_facing``). ``closest_facing`` takes this
@@ -46,7 +48,7 @@ __all__ = ["chosen_outputs", "finished_facing", "whole_facing"]
 # builds, each loop whole (part 0 of 1, ``plain_part``), so the same bits and one build each
 # (its flags given as np.bool_, not the literal True, for which numba would build it again)
 _facing_here = lanes(_facing)
-_parts_here = plain_part(ply_edge_kernels._parts_compiled)
+_parts_once = ply_edge_kernels._parts_once
 _sides_here = plain_part(ply_edge_kernels._sides_compiled)
 _outline_here = plain_part(ply_fade_kernels._outline_compiled)
 _TINY = float(np.finfo(float).tiny)  # ply_kernels.segment_lines' least |b - a|^2
@@ -68,9 +70,10 @@ def _choice(
         best, on_edge, closest, on_cut, segment, along, triangle, chosen_gap, normal, lam,
         chosen_gradients, chosen_reach, overshoot, reached, turned,
     )  # fmt: skip
-    _parts_here(
+    # each vertex's fan made once (the same bits as ``_parts``: ply_edge_kernels.py)
+    _parts_once(
         on_edge, triangle, y, nodes, fans, chosen_gradients, closest, chosen_reach, inside,
-        on_q, rise, run, np.int64(0), np.int64(1),
+        on_q, rise, run,
     )  # fmt: skip
     for i in range(near.shape[0]):
         plane_gap[i] = chosen_gap[i]
