@@ -541,7 +541,7 @@ class DynamicRelaxation:
                     raise DivergenceError(
                         f"dynamic relaxation blew up in increment {increment} (load factor "
                         f"{load_factor:.4g}) at iteration {iteration} even with the fictitious "
-                        f"masses {_MAX_INFLATION:g} times their Gershgorin bound",
+                        f"masses {_MAX_INFLATION:g} times {masses.bound}",
                         None,
                         steps=iteration,
                     )

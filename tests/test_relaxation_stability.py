@@ -11,7 +11,7 @@ from elements import FibrousShell
 from femcore import Mesh, Model
 from materials import Fabric
 from solvers import DynamicRelaxation
-from solvers.common import ConvergenceError
+from solvers.common import ConvergenceError, DivergenceError
 from solvers.relaxation_stability import ESCAPES, StabilityJudge, relaxed_stable
 
 LENGTH, WIDTH, BENDING = 60.0, 10.0, 1.0  # mm, mm, N mm (per unit width)
@@ -78,3 +78,20 @@ def test_a_state_still_unstable_after_its_escapes_stops_the_run_named():
         relaxed_stable(judge, relax, state, 1.0, 1)
     assert len(calls) == ESCAPES + 1
     assert judge.pushes == ESCAPES
+
+
+@pytest.mark.parametrize("masses", ["gershgorin", "factored"])
+def test_a_blow_up_names_the_masses_it_was_relaxed_with(monkeypatch, masses):
+    # The blow-up guard made to stop at once (its bound on the out-of-balance's growth 0, no
+    # inflation allowed): the message names the masses in use, not the Gershgorin bound for
+    # the factored ones.
+    import solvers.relaxation as relaxation
+
+    monkeypatch.setattr(relaxation, "_BLOW_UP", 0.0)
+    monkeypatch.setattr(relaxation, "_MAX_INFLATION", 0.5)
+    _, model = pushed_strip()
+    with pytest.raises(DivergenceError, match="blew up") as stop:
+        DynamicRelaxation(masses=masses).solve(model)
+    assert f'masses = "{masses}"' in str(stop.value)
+    other = {"gershgorin": "factored", "factored": "Gershgorin"}[masses]
+    assert other not in str(stop.value)
