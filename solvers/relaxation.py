@@ -468,7 +468,7 @@ class DynamicRelaxation:
         kinetic_old = 0.0
         restart = True  # the first step from rest is a half step
         start_positions = state.positions.copy()
-        at_rest = state  # the last state the motion restarted from (blow-up recovery)
+        begun = at_rest = state  # the last state the motion restarted from (blow-up recovery)
         recovered_to = None  # the state the last recovery went back to
         previous = None  # the last iteration's (displacement, residual, rate, mass) per kind
         rotation_since_start = np.zeros_like(state.positions)
@@ -531,10 +531,10 @@ class DynamicRelaxation:
             if masses.fictitious and not size <= _BLOW_UP * first_size:
                 # The stiffness grew past the estimate the masses were made for (the motion
                 # turned a stiff direction onto a DOF with a soft row): go back to the last
-                # state at rest and restart with masses estimated there, heavier if the last
-                # recovery already restarted from that state.
-                if recovered_to is at_rest:
-                    inflate *= 2.0
+                # state at rest and restart with masses estimated there; if the last recovery
+                # already restarted from that state, heavier and from the increment's start.
+                if recovered_to is at_rest:  # (a peak taken in flight is no state at rest)
+                    inflate, at_rest, rest_rotation = 2.0 * inflate, begun, 0.0 * rest_rotation
                 recovered_to = at_rest
                 masses.recoveries += 1
                 if inflate > _MAX_INFLATION:

@@ -95,3 +95,25 @@ def test_a_blow_up_names_the_masses_it_was_relaxed_with(monkeypatch, masses):
     assert f'masses = "{masses}"' in str(stop.value)
     other = {"gershgorin": "factored", "factored": "Gershgorin"}[masses]
     assert other not in str(stop.value)
+
+
+@pytest.mark.slow
+def test_a_buckle_started_by_a_small_load_relaxes_past_its_departure():
+    # The 16 x 1-cell strip pushed 2 mm with a small out-of-plane load (gravity 98.1 mm/s^2
+    # on 1e-10 t/mm^2: 5.9e-7 N in all) buckles at once. The departure along the buckling
+    # mode outruns the masses, and the blow-up guard's recoveries went back to a kinetic peak
+    # taken in flight (6e4 mm off), doubling the masses ten times without a step, and stopped
+    # ("blew up ... 1024 times"). From the increment's start it relaxes to the buckled strip:
+    # the Euler load 0.0561 N within 5 % (Static on the same case: 0.0563 N).
+    mesh = Mesh.rectangle(LENGTH, WIDTH, nx=16, ny=1)
+    model = Model(mesh)
+    fabric = Fabric(thickness=0.5, areal_density=1e-10, tension=1000.0, shear=0.5, bending=BENDING)
+    model.add(FibrousShell(fabric, clamped="left"))
+    model.fix("left")
+    model.displace("right", ux=-2.0, uy=0.0, uz=0.0)
+    model.gravity((0.0, 0.0, -98.1))
+    result = DynamicRelaxation().solve(model)
+    assert result.converged
+    euler = 2.046 * math.pi**2 * BENDING * WIDTH / LENGTH**2
+    force = float(result.frames[-1].reactions[mesh.nodes("left"), 0].sum())
+    assert force == pytest.approx(euler, rel=0.05)
