@@ -351,7 +351,14 @@ def _main(argv: list[str]) -> int:
         else:
             before = getattr(run.result, "info", {}).get("wall_time_before_resume", 0.0)
             resumed = f" ({before:.1f} s of them before the resume)" if before > 0.0 else ""
+            floor = getattr(run.result, "info", {}).get("round_off_accepted")
+            told = (
+                f" ({floor['count']} accepted at the round-off floor, residual ratios up to "
+                f"{floor['largest_ratio']:.3g} against tol {floor['tol']:g})"
+                if floor
+                else ""
+            )
             print(f"{case.title}{where}: done in {run.wall_time:.1f} s{resumed}, "
-                  f"{run.result.steps} steps")  # fmt: skip
+                  f"{run.result.steps} steps{told}")  # fmt: skip
     print(f"results in {out}/ ({time.perf_counter() - started:.1f} s in all)")
     return 1 if stopped else 0

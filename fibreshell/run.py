@@ -659,6 +659,8 @@ def summarise(
         }
     if "tool_penetration" in result.info:  # how deep the body went into each tool
         out["tool_penetration"] = result.info["tool_penetration"]
+    if "round_off_accepted" in result.info:  # Static's acceptances at the round-off floor
+        out["round_off_accepted"] = result.info["round_off_accepted"]
     if len(final.tool_forces):  # the force on each tool ([[contact]] order), N
         out["tool_forces"] = {f"tool{i}": f for i, f in enumerate(final.tool_forces, start=1)}
         moved = getattr(final, "tool_displacements", np.zeros((0, 3)))

@@ -93,6 +93,7 @@ class FactoredMasses(RelaxationMasses):
 
     fictitious = True
     every_restart = False
+    bound = 'their factored bound (masses = "factored": the stiffness A + D_B + E itself)'
     switches = 0  # (factored from the start: no stall went on with them)
 
     def __init__(self, base: GershgorinMasses):

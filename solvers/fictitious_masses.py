@@ -70,6 +70,8 @@ class RelaxationMasses:
 
     fictitious = False
     every_restart = True
+    #: what the fictitious masses are made of, as a blow-up's message names it
+    bound = "the physical masses"
     #: the turn (rad) of a surface normal after which the masses are made again
     turn = TURN
 
@@ -110,6 +112,8 @@ class GershgorinMasses(RelaxationMasses):
     """Fictitious masses m_i = (dt^2 / 4) sum_j |K_ij| / safety^2 with dt = 1, K_ij over the
     free DOFs: by Gershgorin's theorem every eigenvalue of M^-1 K is then below
     (2 safety / dt)^2, within the central-difference limit (docs/theory.md §6.4a)."""
+
+    bound = 'their Gershgorin bound (masses = "gershgorin": the row sums of |K|)'
 
     fictitious = True
     every_restart = False

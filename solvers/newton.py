@@ -113,6 +113,7 @@ from femcore.state import State
 from solvers import contact_sets
 from solvers.common import IncrementFailed, StepTooLong
 from solvers.convergence import Equilibrium
+from solvers.floor_acceptance import note_floor_acceptance
 from solvers.imposed_alone import imposes_alone, moves_prescribed, opens_contact
 from solvers.inertia import convexified_step
 from solvers.line_search import Watchdog
@@ -600,6 +601,7 @@ def _iterate(
                 _, ratio, forces = equilibrium.residual(state, frames)
             history.append(ratio)
             if unfrozen is not None:
+                note_floor_acceptance(run.info, ratio, solver.tol, load_factor)  # counted, told
                 unfrozen, escape = judged(
                     run, equilibrium, unfrozen, factor, load_factor, escapes, resume
                 )

@@ -1,5 +1,5 @@
 """Dynamic relaxation: the static equilibrium as the damped limit of a pseudo-dynamic motion
-(docs/theory.md §6.4).
+(docs/theory.md §6.4; an accepted state judged stable, §6.4e).
 
 Loads and prescribed displacements are applied in ``increments`` equal load-factor steps; each
 increment is relaxed to equilibrium before the next one and gives one frame.
@@ -71,6 +71,7 @@ from solvers.interrupts import STOP, Interrupted, check_outputs, keeps_writes
 from solvers.output import checkpoint_path, resume, save_checkpoint
 from solvers.progress import relaxed_share
 from solvers.relaxation_cuts import InvalidState, more_increments, relax_in_halves
+from solvers.relaxation_stability import StabilityJudge, relaxed_stable
 from solvers.relaxation_watch import PLATEAU_FACTOR, STALL_RATIO, Plateau, stall_message
 from solvers.step import advance, angular_rates
 from solvers.tool_penetration import record_tool_penetration
@@ -284,6 +285,7 @@ class DynamicRelaxation:
             if self.masses == "factored"
             else PhysicalMasses(compiled, self.safety)
         )
+        judge = StabilityJudge(compiled, own)  # an accepted state's stability (§6.4e)
         iterations: list[int] = []
         residuals: list[float] = []
         done = cuts = 0  # cuts: halvings of increments (relaxation_cuts), in the checkpoint
@@ -313,13 +315,15 @@ class DynamicRelaxation:
             try:
                 result = self._increments(
                     compiled, state, frames, first, done, iterations, residuals, masses,
-                    progress, started, saved_at, signature, rounding, cuts,
+                    progress, started, saved_at, signature, rounding, cuts, judge,
                 )  # fmt: skip
             except SolverError as error:
                 if error.result is not None:
                     error.result.info["wall_time_before_resume"] = earlier
+                    judge.record(error.result.info)
                 raise
         result.info["wall_time_before_resume"] = earlier
+        judge.record(result.info)
         return result
 
     def _increments(
@@ -338,6 +342,7 @@ class DynamicRelaxation:
         signature,
         rounding: float,
         cuts: int,
+        judge: StabilityJudge,
     ) -> Result:
         """Relax the increments after the ``done`` ones of ``solve``, saving each; the force
         reference never below ``rounding`` (N, solvers.force_floor); ``cuts`` the halvings of
@@ -353,9 +358,11 @@ class DynamicRelaxation:
                     floor = max(rounding, unloaded)
 
                     def relax(at, level, increment=increment, floor=floor, unloaded=unloaded):
-                        return self._relax(
-                            compiled, at, level, masses, progress, increment, floor, unloaded
-                        )
+                        once = partial(
+                            self._relax, compiled, load_factor=level, masses=masses,
+                            progress=progress, increment=increment, floor=floor, unloaded=unloaded,
+                        )  # fmt: skip
+                        return relaxed_stable(judge, once, at, level, increment)  # §6.4e
 
                     (state, count, ratio, reactions, reaction_moments), cut = relax_in_halves(
                         relax, state, frames[-1].load_factor, load_factor, increment, ramps
@@ -461,7 +468,7 @@ class DynamicRelaxation:
         kinetic_old = 0.0
         restart = True  # the first step from rest is a half step
         start_positions = state.positions.copy()
-        at_rest = state  # the last state the motion restarted from (blow-up recovery)
+        begun = at_rest = state  # the last state the motion restarted from (blow-up recovery)
         recovered_to = None  # the state the last recovery went back to
         previous = None  # the last iteration's (displacement, residual, rate, mass) per kind
         rotation_since_start = np.zeros_like(state.positions)
@@ -524,17 +531,17 @@ class DynamicRelaxation:
             if masses.fictitious and not size <= _BLOW_UP * first_size:
                 # The stiffness grew past the estimate the masses were made for (the motion
                 # turned a stiff direction onto a DOF with a soft row): go back to the last
-                # state at rest and restart with masses estimated there, heavier if the last
-                # recovery already restarted from that state.
-                if recovered_to is at_rest:
-                    inflate *= 2.0
+                # state at rest and restart with masses estimated there; if the last recovery
+                # already restarted from that state, heavier and from the increment's start.
+                if recovered_to is at_rest:  # (a peak taken in flight is no state at rest)
+                    inflate, at_rest, rest_rotation = 2.0 * inflate, begun, 0.0 * rest_rotation
                 recovered_to = at_rest
                 masses.recoveries += 1
                 if inflate > _MAX_INFLATION:
                     raise DivergenceError(
                         f"dynamic relaxation blew up in increment {increment} (load factor "
                         f"{load_factor:.4g}) at iteration {iteration} even with the fictitious "
-                        f"masses {_MAX_INFLATION:g} times their Gershgorin bound",
+                        f"masses {_MAX_INFLATION:g} times {masses.bound}",
                         None,
                         steps=iteration,
                     )

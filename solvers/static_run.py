@@ -33,6 +33,7 @@ from solvers.common import (
     outside_stacklevel,
     resolve_progress,
 )
+from solvers.floor_acceptance import report_floor_acceptances
 from solvers.force_floor import round_off_force, unloaded_floor
 from solvers.interrupts import STOP, Interrupted
 from solvers.kept_tangent import KeptTangent
@@ -184,6 +185,7 @@ class StaticRun:
             "tangents_reused": 0,
             "round_off_probes": 0,
             "round_off_converged": 0,
+            "floor_accepted": [],  # (load factor, ratio) at the round-off floor above tol
             "contact_set_updates": 0,
             "contact_set_fallbacks": 0,
             "unpredicted_retries": 0,
@@ -631,6 +633,7 @@ class StaticRun:
             # the shifted tangents that told neutral pivots from negative ones
             "neutral_factorisations": self.neutral_linear.numeric,
         }
+        report_floor_acceptances(self.info, self.solver.tol)  # once per solve
         result.info = dict(self.info, tol=self.solver.tol)
         record_tool_penetration(self.model, result, "Static", converged)
         return result
