@@ -44,13 +44,8 @@ def bound_block(
         return element.bind(mesh, cells, directors)
     except EntryError:
         raise
-    except OptionError as error:
-        where = f"block {index} ({type(element).__name__}): "
-        key = f"options.{error.option}"
-        raise EntryError("block", index, str(error), where, key, error.case_reason) from None
     except ValueError as error:
-        where = f"block {index} ({type(element).__name__}): "
-        raise EntryError("block", index, str(error), where) from None
+        raise block_entry_error(element, index, error) from None
 
 
 def supported_block(
@@ -64,13 +59,19 @@ def supported_block(
         block.apply_supports(np.asarray(constrained.all(axis=1)), constrained)
     except EntryError:
         raise
-    except OptionError as error:
-        where = f"block {index} ({type(element).__name__}): "
-        key = f"options.{error.option}"
-        raise EntryError("block", index, str(error), where, key, error.case_reason) from None
     except ValueError as error:
-        where = f"block {index} ({type(element).__name__}): "
-        raise EntryError("block", index, str(error), where) from None
+        raise block_entry_error(element, index, error) from None
+
+
+def block_entry_error(element: ElementType, index: int, error: ValueError) -> EntryError:
+    """``error`` (a ValueError of ``model.blocks[index]``'s bind or supports) as an EntryError
+    naming the block; an ``OptionError`` also names its option as the key
+    (``options.<option>``) with its message in a case file's terms."""
+    where = f"block {index} ({type(element).__name__}): "
+    if isinstance(error, OptionError):
+        key = f"options.{error.option}"
+        return EntryError("block", index, str(error), where, key, error.case_reason)
+    return EntryError("block", index, str(error), where)
 
 
 def bound_interaction(
