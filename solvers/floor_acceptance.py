@@ -47,10 +47,11 @@ def report_floor_acceptances(info: dict, tol: float) -> None:
     warnings.warn(
         f"{len(accepted)} Newton solve(s) accepted at the round-off floor above the tolerance "
         f"{tol:g}: residual ratios up to {largest:.3g} (load factor {at:.4g}; "
-        "info['floor_accepted']), where a full step moved nothing and the contact law's "
-        "return mapping leaves that residual against the frozen contact law Newton balanced. "
-        "Check the answer against a finer tolerance of the contact (a larger penalty, "
-        "augmentations) if it matters",
+        "info['floor_accepted']), where a full Newton step moved nothing: the residual left "
+        "is the rounding of the internal forces or, with contact, what the contact law's "
+        "return mapping leaves against the frozen contact law Newton balanced. Check the "
+        "answer against a looser load or, with contact, a finer contact tolerance (a larger "
+        "penalty, augmentations) if it matters",
         UserWarning,
         stacklevel=2,
     )

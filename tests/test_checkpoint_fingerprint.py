@@ -308,10 +308,12 @@ def test_a_relaxation_stopped_and_resumed_ends_as_one_never_stopped(tmp_path, mo
     reference = relaxation(increments=3).solve(cable())
     relax = DynamicRelaxation._relax
 
-    def killed_in_the_third(self, model, state, load_factor, masses, progress, increment, *rest):
+    def killed_in_the_third(
+        self, model, state, load_factor, masses, progress, increment, *rest, **kw
+    ):
         if increment == 3:
             raise KeyboardInterrupt
-        return relax(self, model, state, load_factor, masses, progress, increment, *rest)
+        return relax(self, model, state, load_factor, masses, progress, increment, *rest, **kw)
 
     monkeypatch.setattr(DynamicRelaxation, "_relax", killed_in_the_third)
     with pytest.raises(KeyboardInterrupt):
@@ -360,12 +362,12 @@ def test_a_relaxation_resumed_counts_the_wall_time_of_its_increments_before_the_
     checkpoint = tmp_path / "run.ckpt"
     relax = DynamicRelaxation._relax
 
-    def slow_then_killed(self, model, state, load_factor, masses, progress, increment, *rest):
+    def slow_then_killed(self, model, state, load_factor, masses, progress, increment, *rest, **kw):
         if increment == 2:
             time.sleep(PAUSE)
         if increment == 3:
             raise KeyboardInterrupt
-        return relax(self, model, state, load_factor, masses, progress, increment, *rest)
+        return relax(self, model, state, load_factor, masses, progress, increment, *rest, **kw)
 
     monkeypatch.setattr(DynamicRelaxation, "_relax", slow_then_killed)
     with pytest.raises(KeyboardInterrupt):
