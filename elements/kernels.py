@@ -145,13 +145,12 @@ def _node_sums6(offsets, corners, per_corner, force, moment):
         moment[node, 0], moment[node, 1], moment[node, 2] = s3, s4, s5
 
 
-def _run_mindlin(block, positions, directors, with_forces: bool, work):
-    """The cell pass: each cell's corner loads (m, 3, 6) (empty without ``with_forces``) and
-    strain energy (m,), in ``work``'s arrays (a lease of femcore/workspace.py)."""
-    m = len(block.connectivity)
-    loads = work.empty("loads", (m, 3, 6) if with_forces else (0, 3, 6))
-    energy = work.empty("energy", (m,))
-    _mindlin_cells(
+def _cell_inputs(block, positions, directors) -> tuple:
+    """The Mindlin cell passes' first arguments (``_mindlin_cells`` and ``mindlin_nodal``
+    take the same): positions and directors (n, 3) as C-contiguous float64, the connectivity,
+    the thickness points, the half thickness (mm), the reference measures, the levels'
+    stiffness and the tying points' normals."""
+    return (
         np.ascontiguousarray(positions, dtype=np.float64),
         np.ascontiguousarray(directors, dtype=np.float64),
         block.connectivity,
@@ -160,6 +159,17 @@ def _run_mindlin(block, positions, directors, with_forces: bool, work):
         block.reference_measures,
         block.level_stiffness,
         block.tying_n,
+    )
+
+
+def _run_mindlin(block, positions, directors, with_forces: bool, work):
+    """The cell pass: each cell's corner loads (m, 3, 6) (empty without ``with_forces``) and
+    strain energy (m,), in ``work``'s arrays (a lease of femcore/workspace.py)."""
+    m = len(block.connectivity)
+    loads = work.empty("loads", (m, 3, 6) if with_forces else (0, 3, 6))
+    energy = work.empty("energy", (m,))
+    _mindlin_cells(
+        *_cell_inputs(block, positions, directors),
         with_forces,
         loads,
         energy,
@@ -195,14 +205,7 @@ def _mindlin_forces(block, positions, directors, work, with_energy: bool = True)
     force, moment = np.zeros((n, 3)), np.zeros((n, 3))
     energy = work.empty("energy", (m,))
     mindlin_nodal(
-        np.ascontiguousarray(positions, dtype=np.float64),
-        np.ascontiguousarray(directors, dtype=np.float64),
-        block.connectivity,
-        block.zeta,
-        0.5 * block.h,
-        block.reference_measures,
-        block.level_stiffness,
-        block.tying_n,
+        *_cell_inputs(block, positions, directors),
         True,
         with_energy,
         force,
